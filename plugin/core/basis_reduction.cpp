@@ -1,0 +1,2 @@
+#include "basis_reduction.h"
+// Not written yet.

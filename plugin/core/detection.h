@@ -1,0 +1,74 @@
+// The whole pipeline of Figure 2, from a triangle mesh to verified partial symmetries.
+// This is the one entry point the hosts call (MeshLab plugins, Python); it knows
+// nothing of Qt or MeshLab.
+#pragma once
+
+#include "basis_reduction.h"
+#include "mesh.h"
+#include "transformation_space.h"
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace symmetry {
+
+/// Every parameter of the filter, in the core's units.  Lengths are fractions of the
+/// bounding-box diagonal, areas fractions of the total surface area.
+struct DetectionOptions {
+    TransformationGroup group = TransformationGroup::Rigid;
+    int sample_count = 4000;            ///< |initial samples| before pruning (§5)
+    int pair_sample_count = 1000;       ///< |P'|, samples paired against all of P (§2.2)
+    double curvature_radius = 0.02;     ///< r of the curvature ball (§2), fraction of the diagonal
+    double umbilic_ratio = 0.75;        ///< γ of §2.1
+    double signature_tolerance = 0.1;   ///< range-query radius in Ω (§2.2), dimensionless
+    double cluster_bandwidth = 0.04;    ///< h of mean shift (§3.1), fraction of the diagonal in Γ's metric
+    int min_cluster_support = 6;        ///< smallest cluster height worth verifying
+    double verification_tolerance = 0.01;  ///< distance accepted in region growing (§4), fraction of the diagonal
+    double min_patch_area = 0.01;       ///< smallest reported patch, fraction of the total area
+    int max_symmetries = 20;            ///< at most this many symmetries are reported
+    bool refine_with_icp = true;        ///< ICP refinement during region growing (§4)
+    bool reduce_basis = true;           ///< Algorithm 1 (§4.1)
+    int basis_loop_length = 3;          ///< η of Algorithm 1
+    double basis_tolerance = 0.02;      ///< δ of Algorithm 1, fraction of the diagonal in Γ's metric
+    unsigned random_seed = 0;           ///< the whole run is a function of this seed
+
+    /// Throws InputError, with a sentence naming the parameter, for values outside their range.
+    void validate() const;
+};
+
+struct DetectedSymmetry {
+    Transformation transform;             ///< maps the source patch onto the target patch
+    std::vector<int> source_vertices;     ///< rows of the input V, increasing
+    std::vector<int> target_vertices;     ///< rows of the input V, increasing
+    double rms_error = 0;                 ///< fraction of the diagonal
+    double source_area = 0;               ///< fraction of the total surface area
+    int support = 0;                      ///< pairs in the cluster (§3.1)
+    bool is_generator = true;             ///< part of the reduced basis (§4.1)
+    Word word;                            ///< this transformation in the generators
+};
+
+struct DetectionResult {
+    std::vector<DetectedSymmetry> symmetries;  ///< most significant first
+    int generator_count = 0;
+    /// Per input vertex: signed deviation of its image under the most significant
+    /// symmetry it belongs to, as a fraction of the diagonal (Figure 1); 0 elsewhere.
+    std::vector<double> vertex_deviation;
+    /// Per input vertex: index of that symmetry, -1 where no symmetry holds.
+    std::vector<int> vertex_symmetry_id;
+    // Work done, for the log and for benchmarks.
+    int samples = 0, pruned_samples = 0, pairs = 0, transformation_points = 0, clusters = 0;
+    double seconds_signatures = 0, seconds_pairing = 0, seconds_clustering = 0, seconds_verification = 0;
+};
+
+/// Called with a percentage (0..100) and the stage's name.  Always on the calling thread,
+/// so a MeshLab callback that pumps the GUI event loop is safe.
+using Progress = std::function<void(int percent, const char* stage)>;
+
+/// Runs the pipeline on the mesh (V: #V by 3 positions, F: #F by 3 triangles).
+/// Throws InputError for unusable input or parameters; the input is never modified.
+DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                                          const DetectionOptions& options, const Progress& progress = {});
+
+}  // namespace symmetry

@@ -1,0 +1,67 @@
+#include "kd_tree.h"
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace symmetry {
+
+namespace {
+struct RowMajorAdaptor {
+    const KdTree::Points* points;
+    size_t kdtree_get_point_count() const { return size_t(points->rows()); }
+    double kdtree_get_pt(size_t idx, size_t dim) const { return (*points)(Eigen::Index(idx), Eigen::Index(dim)); }
+    template <class Box> bool kdtree_get_bbox(Box&) const { return false; }
+};
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Adaptor<double, RowMajorAdaptor>,
+                                                 RowMajorAdaptor, -1, size_t>;
+}  // namespace
+
+struct KdTree::Index {
+    RowMajorAdaptor adaptor;
+    Tree tree;
+    Index(const Points* p)
+        : adaptor{p}, tree(int(p->cols()), adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
+        tree.buildIndex();
+    }
+};
+
+KdTree::KdTree(Points points) : points_(std::move(points)) {
+    index_ = std::make_unique<Index>(&points_);
+}
+KdTree::~KdTree() = default;
+// The index holds a pointer to points_, so a move must rebuild that link.
+KdTree::KdTree(KdTree&& other) noexcept : points_(std::move(other.points_)), index_(std::move(other.index_)) {
+    if (index_) index_->adaptor.points = &points_;
+}
+KdTree& KdTree::operator=(KdTree&& other) noexcept {
+    points_ = std::move(other.points_);
+    index_ = std::move(other.index_);
+    if (index_) index_->adaptor.points = &points_;
+    return *this;
+}
+
+std::vector<int> KdTree::radius_search(const double* query, double radius) const {
+    std::vector<int> result;
+    if (points_.rows() == 0) return result;
+    std::vector<std::pair<size_t, double>> matches;
+    // nanoflann's L2 metric works on squared distances.
+    index_->tree.radiusSearch(query, radius * radius, matches, nanoflann::SearchParams(32, 0.0, false));
+    result.reserve(matches.size());
+    for (const auto& m : matches) result.push_back(int(m.first));
+    std::sort(result.begin(), result.end());
+    return result;
+}
+
+std::pair<int, double> KdTree::nearest(const double* query) const {
+    if (points_.rows() == 0) return {-1, INFINITY};
+    size_t index = 0;
+    double squared = 0;
+    nanoflann::KNNResultSet<double, size_t> result(1);
+    result.init(&index, &squared);
+    index_->tree.findNeighbors(result, query, nanoflann::SearchParams());
+    return {int(index), std::sqrt(squared)};
+}
+
+}  // namespace symmetry

@@ -1,0 +1,41 @@
+// A thin wrapper around nanoflann for the three neighbourhood queries of the
+// pipeline: edges near a sample (curvature tensor, §2), partners in signature
+// space (§2.2) and neighbours in transformation space (§3.1).  Wrapping it keeps
+// the nanoflann API version (Debian ships 1.4, newer releases changed the result
+// type) in one place.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+namespace symmetry {
+
+/// Points are the rows of a dense matrix; the tree keeps its own copy.
+class KdTree {
+public:
+    using Points = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+    explicit KdTree(Points points);
+    ~KdTree();
+    KdTree(KdTree&&) noexcept;
+    KdTree& operator=(KdTree&&) noexcept;
+
+    int size() const { return int(points_.rows()); }
+    int dimension() const { return int(points_.cols()); }
+    const Points& points() const { return points_; }
+
+    /// Indices of all points within Euclidean distance `radius` of `query`
+    /// (dimension() values), in increasing index order so results are deterministic.
+    std::vector<int> radius_search(const double* query, double radius) const;
+
+    /// Index of the nearest point and its Euclidean distance.
+    std::pair<int, double> nearest(const double* query) const;
+
+private:
+    struct Index;
+    Points points_;
+    std::unique_ptr<Index> index_;
+};
+
+}  // namespace symmetry

@@ -1,0 +1,2 @@
+#include "mean_shift.h"
+// Not written yet.

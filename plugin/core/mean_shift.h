@@ -1,0 +1,36 @@
+// Stage 6 (§3.1): mean-shift clustering with the Epanechnikov kernel.
+#pragma once
+
+#include "kd_tree.h"
+
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+namespace symmetry {
+
+struct Cluster {
+    Eigen::VectorXd mode;      ///< the local maximum of the density
+    std::vector<int> members;  ///< points within the bandwidth of the mode, each in one cluster only
+    int height = 0;            ///< number of points within the bandwidth of the mode (the density at the mode)
+};
+
+struct MeanShiftOptions {
+    double bandwidth = 0.05;  ///< h, in the units of the points
+    int min_support = 5;      ///< clusters whose height is below this are not returned
+    int max_iterations = 100;
+    /// Called on every updated estimate; lets the caller keep modes on a manifold
+    /// (here: the rotation block on SO(3)).  May be empty.
+    std::function<void(Eigen::Ref<Eigen::VectorXd>)> project;
+};
+
+/// The significant modes of ρ(T) = Σ K(||T − T_i|| / h).  For the Epanechnikov kernel the
+/// mean-shift step is the plain mean of the points within h (its shadow is the flat
+/// kernel, Comaniciu and Meer 2002), so every step is one kd-tree range query.  Starting
+/// points are taken in decreasing order of density and skipped when they lie within h/2
+/// of a mode already found, which they would climb to anyway; modes closer than h/2 are
+/// merged.  Each point joins the nearest mode within h.  Clusters are returned in
+/// decreasing order of height; the result is deterministic.
+std::vector<Cluster> mean_shift(const KdTree& points, const MeanShiftOptions& options);
+
+}  // namespace symmetry

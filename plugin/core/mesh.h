@@ -1,0 +1,45 @@
+// The core's own triangle mesh, in double precision whatever the host's scalar is.
+// Every host (pymeshlab in double, the MeshLab GUI and meshlabserver in float, a
+// numpy caller) copies its mesh into this type, so the pipeline is written once
+// and the host's mesh is never touched until detection has succeeded.
+#pragma once
+
+#include <vcg/complex/complex.h>
+
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace symmetry {
+
+class Vertex;
+class Face;
+struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
+class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d, vcg::vertex::VFAdj,
+                                  vcg::vertex::Mark, vcg::vertex::BitFlags> {};
+class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::FFAdj,
+                              vcg::face::VFAdj, vcg::face::Mark, vcg::face::BitFlags> {};
+class Mesh : public vcg::tri::TriMesh<std::vector<Vertex>, std::vector<Face>> {};
+
+/// Thrown for input the pipeline cannot work on; what() is a sentence for the user.
+class InputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Builds the core mesh from vertex positions (#V by 3) and triangles (#F by 3
+/// indices into V), rejecting what the pipeline cannot handle with an InputError:
+/// no vertices, no faces (a point cloud), non-finite coordinates, indices out of
+/// range.  Degenerate faces (repeated index or zero area) are dropped, as are
+/// vertices no face references, because neither carries surface; if nothing
+/// remains the mesh is rejected.  Face-face and vertex-face adjacency, normals and
+/// the bounding box are computed.  `vertex_of_input` receives, for every vertex
+/// of the result, its row in V, so outputs can be written back to the host mesh.
+void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh,
+                std::vector<int>& vertex_of_input);
+
+/// Total surface area of the mesh.
+double surface_area(const Mesh& mesh);
+
+}  // namespace symmetry

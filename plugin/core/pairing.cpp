@@ -1,0 +1,2 @@
+#include "pairing.h"
+// Not written yet.

@@ -1,0 +1,34 @@
+// Stage 4 (§2.2): pairs of samples whose signatures agree, found by range queries in
+// a kd-tree over the signature space Ω.
+#pragma once
+
+#include "signatures.h"
+#include "transformation_space.h"
+
+#include <random>
+#include <vector>
+
+namespace symmetry {
+
+/// The signature σ of a sample in Ω (§2.2), for the given group:
+/// - Similarity: σ7, a scale-invariant function of κ1/κ2.  We use the shape index
+///   (2/π) atan((κ2+κ1)/(κ2−κ1)), a monotone remapping of the ratio κ1/κ2 onto [-1, 1]
+///   that stays finite where κ2 → 0 (the plain ratio does not).
+/// - every other group: σ6 = (κ1, κ2) * r, the principal curvatures made dimensionless by
+///   the curvature radius r, so the tolerance does not depend on the model's units.
+Eigen::VectorXd signature(const SurfaceSignature& s, TransformationGroup group, double radius);
+
+struct SignaturePair {
+    int first;   ///< index in the pruned sample set P of the sample drawn into P'
+    int second;  ///< index in P of its partner
+};
+
+/// For `subset_size` samples drawn at random from P (the paper's P'), all partners in P
+/// within `tolerance` of its signature, excluding the sample itself and partners closer
+/// than `min_distance` in space (such pairs see the same patch and vote for near-identity
+/// transformations that carry no symmetry).  Deterministic for a given rng state.
+std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
+                                                   TransformationGroup group, double radius, double tolerance,
+                                                   int subset_size, double min_distance, std::mt19937_64& rng);
+
+}  // namespace symmetry

@@ -1,0 +1,2 @@
+#include "sampling.h"
+// Not written yet.

@@ -1,0 +1,2 @@
+#include "signatures.h"
+// Not written yet.

@@ -1,0 +1,37 @@
+// Stage 2 (§2): the curvature tensor of Cohen-Steiner and Morvan's normal cycle,
+// integrated over a ball of radius r as in Alliez et al. 2003, its principal
+// curvatures and directions, and the right-handed local frame on the outward
+// normal that every pair's transformation is computed from.
+#pragma once
+
+#include "mesh.h"
+#include "sampling.h"
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace symmetry {
+
+/// A sample with its local shape signature and frame.
+struct SurfaceSignature {
+    Eigen::Vector3d position;
+    Eigen::Vector3d normal;     ///< outward unit normal (area-weighted face normals in the ball)
+    Eigen::Vector3d direction1; ///< principal direction of kappa1, unit, tangent
+    Eigen::Vector3d direction2; ///< principal direction of kappa2; direction1 x direction2 = normal
+    double kappa1 = 0;          ///< smaller principal curvature (signed, kappa1 <= kappa2)
+    double kappa2 = 0;          ///< larger principal curvature; positive where the surface is convex
+    double area = 0;            ///< surface area inside the ball, used for normalisation
+    int face = -1;              ///< face the sample lies on
+};
+
+/// Curvature tensor at each sample, integrated over the surface inside a ball of
+/// radius `radius` around it: T = 1/|B| sum_e beta(e) |e ∩ B| ê êᵀ, with beta the
+/// signed dihedral angle (positive on convex edges).  The tensor is projected on the
+/// tangent plane of the averaged normal before its eigen-decomposition, because on a
+/// cylinder the normal and the axis direction share the eigenvalue 0 and would be
+/// confused otherwise.  Edges with more than two faces (non-manifold) and boundary
+/// edges bend nothing and are skipped.
+std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::vector<SurfaceSample>& samples,
+                                                 double radius);
+
+}  // namespace symmetry

@@ -1,0 +1,2 @@
+#include "surface_query.h"
+// Not written yet.

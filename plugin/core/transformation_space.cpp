@@ -1,0 +1,2 @@
+#include "transformation_space.h"
+// Not written yet.

@@ -1,0 +1,2 @@
+#include "verification.h"
+// Not written yet.

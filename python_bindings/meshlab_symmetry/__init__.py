@@ -1,0 +1,36 @@
+"""Partial and approximate symmetry detection for pymeshlab.
+
+Importing this package loads the ``filter_symmetry`` MeshLab plugin into pymeshlab and
+binds its filter as a ``pymeshlab.MeshSet`` method, so that::
+
+    import pymeshlab
+    import meshlab_symmetry
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh("model.ply")
+    out = ms.compute_partial_symmetries()
+
+works like any built-in filter.
+"""
+import os
+
+import pymeshlab
+
+FILTER_NAME = "compute_partial_symmetries"
+_PLUGIN_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libfilter_symmetry.so")
+
+
+def plugin_path():
+    """Path of the plugin file loaded into pymeshlab."""
+    return _PLUGIN_FILE
+
+
+def _load_plugin():
+    if not os.path.exists(_PLUGIN_FILE):
+        raise ImportError(
+            f"The symmetry plugin is not built ({_PLUGIN_FILE} is missing). "
+            "Run `make` at the top of the meshlab-symmetry repository.")
+    pymeshlab.load_plugin(_PLUGIN_FILE)
+    setattr(pymeshlab.MeshSet, FILTER_NAME, pymeshlab.bind_function(FILTER_NAME))
+
+
+_load_plugin()

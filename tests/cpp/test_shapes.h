@@ -1,0 +1,25 @@
+// Analytic shapes for the unit tests, as (V, F) arrays with outward-facing triangles.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace symmetry::testing {
+
+struct Shape {
+    Eigen::MatrixX3d V;
+    Eigen::MatrixX3i F;
+};
+
+/// Sphere of the given radius: an icosahedron subdivided `levels` times and projected.
+Shape sphere(double radius, int levels);
+/// Open cylinder around the z axis, z in [0, height], `around` by `along` quads split in two.
+Shape cylinder(double radius, double height, int around, int along);
+/// Torus around the z axis: tube radius r at distance R from the axis.
+Shape torus(double R, double r, int around, int tube);
+/// Apply x -> A x + t to every vertex; flips the faces' orientation when det(A) < 0 so the
+/// normals stay outward.
+Shape transformed(const Shape& s, const Eigen::Matrix3d& A, const Eigen::Vector3d& t);
+/// Two shapes in one mesh.
+Shape merged(const Shape& a, const Shape& b);
+
+}  // namespace symmetry::testing
