@@ -18,11 +18,11 @@ namespace symmetry {
 /// bounding-box diagonal, areas fractions of the total surface area.
 struct DetectionOptions {
     TransformationGroup group = TransformationGroup::Rigid;
-    int sample_count = 4000;            ///< |initial samples| before pruning (§5)
-    int pair_sample_count = 1000;       ///< |P'|, samples paired against all of P (§2.2)
-    double curvature_radius = 0.02;     ///< r of the curvature ball (§2), fraction of the diagonal
+    int sample_count = 10000;           ///< |initial samples| before pruning (§5)
+    int pair_sample_count = 1500;       ///< |P'|, samples paired against all of P (§2.2)
+    double curvature_radius = 0.01;     ///< r of the curvature ball (§2), fraction of the diagonal
     double umbilic_ratio = 0.75;        ///< γ of §2.1
-    double signature_tolerance = 0.1;   ///< range-query radius in Ω (§2.2), dimensionless
+    double signature_tolerance = 0.05;  ///< range-query radius in Ω (§2.2), dimensionless
     double cluster_bandwidth = 0.04;    ///< h of mean shift (§3.1), fraction of the diagonal in Γ's metric
     int min_cluster_support = 6;        ///< smallest cluster height worth verifying
     double verification_tolerance = 0.01;  ///< distance accepted in region growing (§4), fraction of the diagonal

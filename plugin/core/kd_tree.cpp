@@ -42,7 +42,7 @@ KdTree& KdTree::operator=(KdTree&& other) noexcept {
     return *this;
 }
 
-std::vector<int> KdTree::radius_search(const double* query, double radius) const {
+std::vector<int> KdTree::radius_search(const double* query, double radius, bool sorted) const {
     std::vector<int> result;
     if (points_.rows() == 0) return result;
     std::vector<std::pair<size_t, double>> matches;
@@ -50,7 +50,7 @@ std::vector<int> KdTree::radius_search(const double* query, double radius) const
     index_->tree.radiusSearch(query, radius * radius, matches, nanoflann::SearchParams(32, 0.0, false));
     result.reserve(matches.size());
     for (const auto& m : matches) result.push_back(int(m.first));
-    std::sort(result.begin(), result.end());
+    if (sorted) std::sort(result.begin(), result.end());
     return result;
 }
 

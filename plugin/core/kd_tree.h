@@ -26,8 +26,9 @@ public:
     const Points& points() const { return points_; }
 
     /// Indices of all points within Euclidean distance `radius` of `query`
-    /// (dimension() values), in increasing index order so results are deterministic.
-    std::vector<int> radius_search(const double* query, double radius) const;
+    /// (dimension() values), in increasing index order so results are deterministic
+    /// (unless `sorted` is false, for callers that filter and sort themselves).
+    std::vector<int> radius_search(const double* query, double radius, bool sorted = true) const;
 
     /// Index of the nearest point and its Euclidean distance.
     std::pair<int, double> nearest(const double* query) const;

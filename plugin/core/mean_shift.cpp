@@ -1,2 +1,92 @@
 #include "mean_shift.h"
-// Not written yet.
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace symmetry {
+
+std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& options) {
+    const KdTree::Points& points = tree.points();
+    const int n = tree.size();
+    const int dim = tree.dimension();
+    const double h = options.bandwidth;
+    std::vector<Cluster> clusters;
+    if (n == 0) return clusters;
+
+    // Density at every point, to start the ascent from the densest points first.
+    std::vector<int> density(n);
+    for (int i = 0; i < n; ++i) density[i] = int(tree.radius_search(points.row(i).data(), h).size());
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return density[a] > density[b]; });
+
+    std::vector<Eigen::VectorXd> modes;
+    std::vector<int> heights;
+    // Comaniciu and Meer's basin-of-attraction shortcut: points within h/2 of a
+    // trajectory would climb to the same mode, so no ascent starts from them.
+    std::vector<char> covered(n, 0);
+    Eigen::VectorXd x(dim), mean(dim);
+    for (int start : order) {
+        // A point whose neighbourhood is too thin cannot reach a mode of sufficient
+        // height on its own; the ones that could are reached from denser starts.
+        if (density[start] < options.min_support) break;
+        if (options.max_modes > 0 && int(modes.size()) >= options.max_modes) break;
+        if (covered[start]) continue;
+        x = points.row(start).transpose();
+
+        std::vector<int> neighbours;
+        for (int it = 0; it < options.max_iterations; ++it) {
+            neighbours = tree.radius_search(x.data(), h);
+            if (neighbours.empty()) break;
+            mean.setZero();
+            for (int j : neighbours) {
+                mean += points.row(j).transpose();
+                if ((points.row(j).transpose() - x).squaredNorm() < 0.25 * h * h) covered[j] = 1;
+            }
+            mean /= double(neighbours.size());
+            if (options.project) options.project(mean);
+            double step = (mean - x).norm();
+            x = mean;
+            if (step < 1e-4 * h) break;
+        }
+        neighbours = tree.radius_search(x.data(), h);
+        int height = int(neighbours.size());
+        if (height < options.min_support) continue;
+
+        // Merge with an existing mode closer than h/2, keeping the higher one.
+        bool merged = false;
+        for (size_t k = 0; k < modes.size(); ++k)
+            if ((modes[k] - x).norm() < 0.5 * h) {
+                if (height > heights[k]) { modes[k] = x; heights[k] = height; }
+                merged = true;
+                break;
+            }
+        if (!merged) { modes.push_back(x); heights.push_back(height); }
+    }
+
+    // Each point joins the nearest mode within h.
+    std::vector<std::vector<int>> members(modes.size());
+    std::vector<int> owner(n, -1);
+    std::vector<double> owner_distance(n, INFINITY);
+    for (size_t k = 0; k < modes.size(); ++k)
+        for (int j : tree.radius_search(modes[k].data(), h)) {
+            double d = (points.row(j).transpose() - modes[k]).norm();
+            if (d < owner_distance[j]) { owner_distance[j] = d; owner[j] = int(k); }
+        }
+    for (int j = 0; j < n; ++j)
+        if (owner[j] >= 0) members[owner[j]].push_back(j);
+
+    for (size_t k = 0; k < modes.size(); ++k) {
+        Cluster c;
+        c.mode = modes[k];
+        c.members = std::move(members[k]);
+        c.height = heights[k];
+        clusters.push_back(std::move(c));
+    }
+    std::stable_sort(clusters.begin(), clusters.end(),
+                     [](const Cluster& a, const Cluster& b) { return a.height > b.height; });
+    return clusters;
+}
+
+}  // namespace symmetry

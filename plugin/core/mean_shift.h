@@ -19,6 +19,10 @@ struct MeanShiftOptions {
     double bandwidth = 0.05;  ///< h, in the units of the points
     int min_support = 5;      ///< clusters whose height is below this are not returned
     int max_iterations = 100;
+    /// Stop after this many modes (0: no limit).  Ascents start from the densest points,
+    /// so the modes found first are the high ones; a caller that can only use the top few
+    /// need not climb every hill of the background noise.
+    int max_modes = 0;
     /// Called on every updated estimate; lets the caller keep modes on a manifold
     /// (here: the rotation block on SO(3)).  May be empty.
     std::function<void(Eigen::Ref<Eigen::VectorXd>)> project;
@@ -28,9 +32,9 @@ struct MeanShiftOptions {
 /// mean-shift step is the plain mean of the points within h (its shadow is the flat
 /// kernel, Comaniciu and Meer 2002), so every step is one kd-tree range query.  Starting
 /// points are taken in decreasing order of density and skipped when they lie within h/2
-/// of a mode already found, which they would climb to anyway; modes closer than h/2 are
-/// merged.  Each point joins the nearest mode within h.  Clusters are returned in
+/// of an earlier ascent path, which they would follow anyway (Comaniciu and Meer's basin
+/// of attraction); modes closer than h/2 are merged.  Each point joins the nearest mode within h.  Clusters are returned in
 /// decreasing order of height; the result is deterministic.
-std::vector<Cluster> mean_shift(const KdTree& points, const MeanShiftOptions& options);
+std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& options);
 
 }  // namespace symmetry

@@ -1,2 +1,68 @@
 #include "pairing.h"
-// Not written yet.
+
+#include "kd_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace symmetry {
+
+Eigen::VectorXd signature(const SurfaceSignature& s, TransformationGroup group, double radius) {
+    if (group == TransformationGroup::Similarity) {
+        Eigen::VectorXd sigma(1);
+        // Shape index: a monotone function of κ1/κ2, finite wherever κ1 ≠ κ2 (umbilics
+        // are pruned before pairing).
+        sigma(0) = (2.0 / M_PI) * std::atan2(s.kappa2 + s.kappa1, s.kappa2 - s.kappa1);
+        return sigma;
+    }
+    Eigen::VectorXd sigma(2);
+    sigma << s.kappa1 * radius, s.kappa2 * radius;
+    return sigma;
+}
+
+std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
+                                                   TransformationGroup group, double radius, double tolerance,
+                                                   int subset_size, double min_distance, std::mt19937_64& rng) {
+    std::vector<SignaturePair> pairs;
+    const int n = int(samples.size());
+    if (n < 2) return pairs;
+
+    const int dim = group == TransformationGroup::Similarity ? 1 : 2;
+    KdTree::Points omega(n, dim);
+    for (int i = 0; i < n; ++i) omega.row(i) = signature(samples[i], group, radius).transpose();
+    KdTree tree(std::move(omega));
+
+    // P' ⊂ P drawn without replacement (partial Fisher-Yates, own draws so the result does
+    // not depend on the standard library's distributions).
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    const int m = std::min(subset_size, n);
+    for (int k = 0; k < m; ++k) {
+        int j = k + int(rng() % uint64_t(n - k));
+        std::swap(order[k], order[j]);
+    }
+    std::sort(order.begin(), order.begin() + m);
+
+    const double min_distance2 = min_distance * min_distance;
+    for (int k = 0; k < m; ++k) {
+        const int i = order[k];
+        std::vector<std::pair<double, int>> partners;
+        for (int j : tree.radius_search(tree.points().row(i).data(), tolerance)) {
+            if (j == i) continue;
+            if ((samples[j].position - samples[i].position).squaredNorm() < min_distance2) continue;
+            partners.push_back({(tree.points().row(j) - tree.points().row(i)).squaredNorm(), j});
+        }
+        if (int(partners.size()) > kMaxPartners) {
+            // Ties are broken by index, so the choice does not depend on the sort.
+            std::nth_element(partners.begin(), partners.begin() + kMaxPartners, partners.end());
+            partners.resize(kMaxPartners);
+            std::sort(partners.begin(), partners.end(),
+                      [](const auto& a, const auto& b) { return a.second < b.second; });
+        }
+        for (const auto& partner : partners) pairs.push_back({i, partner.second});
+    }
+    return pairs;
+}
+
+}  // namespace symmetry

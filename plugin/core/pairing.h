@@ -23,10 +23,18 @@ struct SignaturePair {
     int second;  ///< index in P of its partner
 };
 
-/// For `subset_size` samples drawn at random from P (the paper's P'), all partners in P
-/// within `tolerance` of its signature, excluding the sample itself and partners closer
-/// than `min_distance` in space (such pairs see the same patch and vote for near-identity
-/// transformations that carry no symmetry).  Deterministic for a given rng state.
+/// On a surface whose curvature hardly varies (a sphere with bumps, a long tube) almost
+/// every sample falls within the tolerance of every other, and the pairs grow as n'·n.
+/// Keeping only the nearest partners in Ω bounds the work of clustering at n'·k points
+/// while keeping the partners most likely to be true ones (the Appendix's μ, the
+/// average number of partners, is 10 in the paper's example).
+constexpr int kMaxPartners = 32;
+
+/// For `subset_size` samples drawn at random from P (the paper's P'), the partners in P
+/// within `tolerance` of its signature, at most kMaxPartners of them (the nearest in Ω),
+/// excluding the sample itself and partners closer than `min_distance` in space (such
+/// pairs see the same patch and vote for near-identity transformations that carry no
+/// symmetry).  Deterministic for a given rng state.
 std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
                                                    TransformationGroup group, double radius, double tolerance,
                                                    int subset_size, double min_distance, std::mt19937_64& rng);

@@ -28,9 +28,11 @@ struct SurfaceSignature {
 /// radius `radius` around it: T = 1/|B| sum_e beta(e) |e ∩ B| ê êᵀ, with beta the
 /// signed dihedral angle (positive on convex edges).  The tensor is projected on the
 /// tangent plane of the averaged normal before its eigen-decomposition, because on a
-/// cylinder the normal and the axis direction share the eigenvalue 0 and would be
-/// confused otherwise.  Edges with more than two faces (non-manifold) and boundary
-/// edges bend nothing and are skipped.
+/// cylinder the normal and the direction around the axis share the eigenvalue 0 and
+/// would be confused otherwise.  (The tensor's eigenvector of the larger eigenvalue
+/// is the direction of the smaller curvature: the axis of a cylinder gets 1/R.)
+/// Edges with more than two faces (non-manifold) and boundary edges bend nothing
+/// and are skipped.  The radius must be positive (InputError otherwise).
 std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::vector<SurfaceSample>& samples,
                                                  double radius);
 

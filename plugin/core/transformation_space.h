@@ -38,8 +38,8 @@ struct Transformation {
     static Transformation from_linear(const Eigen::Matrix3d& linear, const Eigen::Vector3d& translation);
 };
 
-/// Γ embedded in R^13 as (log-scale, the 9 entries of the rotation, the translation of
-/// the bounding-box centre), each weighted as in §3.
+/// Γ embedded in R^13 as (the translation of the bounding-box centre, log-scale, the 9
+/// entries of the rotation), each weighted as in §3.
 ///
 /// Where we depart from the paper, and why:
 /// - rotations are stored as matrices, not Euler angles: Euler angles wrap at ±180°

@@ -12,9 +12,19 @@
 
 namespace symmetry {
 
+/// Vertex-to-vertex adjacency over mesh edges, in compressed rows: the neighbours of
+/// vertex v are neighbours[offsets[v] .. offsets[v+1]).  Built once per mesh.
+struct VertexNeighbours {
+    std::vector<int> offsets;
+    std::vector<int> neighbours;
+};
+VertexNeighbours vertex_neighbours(const Mesh& mesh);
+
 struct VerificationOptions {
     double tolerance = 0;        ///< largest distance of T(v) to the surface, absolute units
-    double min_patch_area = 0;   ///< smallest area of a source patch worth reporting, absolute units
+    double min_patch_area = 0;   ///< smallest area of a connected source patch worth keeping, absolute units
+    double min_displacement = 0; ///< a transformation that moves its patch less than this (RMS) is
+                                 ///< a continuous self-map of the surface, not a symmetry; rejected
     bool refine_with_icp = true; ///< re-fit T to the matched vertices while the patch grows
     TransformationGroup group = TransformationGroup::Rigid;  ///< ICP stays inside this group
 };
@@ -29,15 +39,25 @@ struct VerifiedSymmetry {
     double source_area = 0;               ///< area of the faces whose three vertices are in the source patch
 };
 
+/// The transformation of `options.group` that best maps `source` onto `target` in the
+/// least-squares sense (Umeyama for rigid and similarity, through the fixed mirror when
+/// `reflection`; a plane fit for mirrors; the mean offset for translations).
+Transformation fit_transformation(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
+                                  TransformationGroup group, bool reflection);
+
 /// Grows patches invariant under `candidate` from the seed vertices (one per pair of the
 /// cluster, the first sample of each pair): a vertex v joins when T(v) lies within the
 /// tolerance of the surface with a normal that agrees with T's image of v's normal, and
 /// growth continues over mesh edges until no vertex can be added.  Seeds already inside
 /// a patch are skipped, as the paper removes their pairs from the cluster.  With ICP the
 /// transformation is re-fitted to the matched vertices each time the patch has doubled
-/// in size, and once at the end, staying inside `options.group`.  Returns nothing when
-/// the patches together cover less than options.min_patch_area.
-std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const SurfaceQuery& surface,
+/// in size, and once at the end, staying inside `options.group`.  Connected patches
+/// smaller than options.min_patch_area are dropped; returns nothing when none is left.
+/// A result whose RMS deviation exceeds a quarter of the tolerance is rejected: it is two
+/// smooth patches that touch, not a symmetry (see verification.cpp).
+/// The target patch is grown the same way under T⁻¹, from the vertices T(source) lands on.
+std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const VertexNeighbours& adjacency,
+                                                         const SurfaceQuery& surface,
                                                          const Transformation& candidate,
                                                          const std::vector<int>& seed_vertices,
                                                          const VerificationOptions& options);

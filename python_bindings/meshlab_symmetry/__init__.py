@@ -34,3 +34,7 @@ def _load_plugin():
 
 
 _load_plugin()
+
+from .symmetry_graph import detect_symmetries, symmetry_graph, to_json  # noqa: E402
+
+__all__ = ["FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json"]

@@ -1,5 +1,7 @@
 #include "test_shapes.h"
 
+#include <Eigen/LU>
+
 #include <cmath>
 #include <map>
 #include <vector>

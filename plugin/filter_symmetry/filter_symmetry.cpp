@@ -1,0 +1,435 @@
+#include "filter_symmetry.h"
+
+#include "symmetry_parameters.h"
+
+#include <core/detection.h>
+
+#include <common/mlexception.h>
+#include <vcg/complex/algorithms/update/bounding.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Name of the per-vertex attribute holding the symmetry index (public API).
+const char* const kSymmetryIdAttribute = "symmetry_id";
+
+/// The current mesh as the core sees it: non-deleted vertices and faces, compacted.
+struct HostMesh {
+	Eigen::MatrixX3d V;                  ///< #V by 3 positions
+	Eigen::MatrixX3i F;                  ///< #F by 3 rows of V
+	std::vector<CVertexO*> vertexOfRow;  ///< the CMeshO vertex behind each row of V
+};
+
+HostMesh copyMesh(CMeshO& m)
+{
+	HostMesh h;
+	std::vector<int> rowOfVertex(m.vert.size(), -1);
+	for (size_t i = 0; i < m.vert.size(); ++i) {
+		if (!m.vert[i].IsD()) {
+			rowOfVertex[i] = int(h.vertexOfRow.size());
+			h.vertexOfRow.push_back(&m.vert[i]);
+		}
+	}
+	h.V.resize(Eigen::Index(h.vertexOfRow.size()), 3);
+	for (size_t r = 0; r < h.vertexOfRow.size(); ++r)
+		for (int c = 0; c < 3; ++c)
+			h.V(Eigen::Index(r), c) = double(h.vertexOfRow[r]->P()[c]);
+
+	std::vector<Eigen::Vector3i> faces;
+	faces.reserve(m.face.size());
+	for (const CFaceO& f : m.face) {
+		if (f.IsD())
+			continue;
+		Eigen::Vector3i row;
+		bool valid = true;
+		for (int c = 0; c < 3; ++c) {
+			const CVertexO* v = f.cV(c);
+			if (v == nullptr || v->IsD()) {
+				valid = false;
+				break;
+			}
+			row[c] = rowOfVertex[size_t(vcg::tri::Index(m, v))];
+		}
+		if (valid)
+			faces.push_back(row);
+	}
+	h.F.resize(Eigen::Index(faces.size()), 3);
+	for (size_t i = 0; i < faces.size(); ++i)
+		h.F.row(Eigen::Index(i)) = faces[i].transpose();
+	return h;
+}
+
+/// A result that does not fit the input would corrupt the document: refuse it before
+/// anything is written.  Throws std::logic_error (a bug in the core, not user error).
+void checkResult(const symmetry::DetectionResult& r, Eigen::Index rows, const symmetry::DetectionOptions& o)
+{
+	auto fail = [](const std::string& what) { throw std::logic_error(what); };
+	const int count = int(r.symmetries.size());
+	if (Eigen::Index(r.vertex_deviation.size()) != rows || Eigen::Index(r.vertex_symmetry_id.size()) != rows)
+		fail("per-vertex outputs do not match the vertex count");
+	for (double d : r.vertex_deviation)
+		if (!std::isfinite(d))
+			fail("a vertex deviation is not a finite number");
+	for (int id : r.vertex_symmetry_id)
+		if (id < -1 || id >= count)
+			fail("a vertex symmetry index is out of range");
+	for (const symmetry::DetectedSymmetry& s : r.symmetries) {
+		for (const std::vector<int>* patch : {&s.source_vertices, &s.target_vertices})
+			for (int v : *patch)
+				if (v < 0 || Eigen::Index(v) >= rows)
+					fail("a patch vertex index is out of range");
+		if (int(s.word.size()) > std::max(o.basis_loop_length, 1))
+			fail("a basis word is longer than basis_loop_length");
+	}
+}
+
+/// v.Q() = signed deviation (fraction of the diagonal); colour ramp over [-m, m],
+/// grey where no symmetry holds.
+void writeQualityAndColour(MeshModel& mm, const HostMesh& h, const symmetry::DetectionResult& r)
+{
+	mm.updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+	double range = 0;
+	for (double d : r.vertex_deviation)
+		range = std::max(range, std::abs(d));
+	if (!(range > 0))
+		range = 1e-6;  // all exact: the ramp's centre colour everywhere
+	for (size_t row = 0; row < h.vertexOfRow.size(); ++row) {
+		CVertexO& v = *h.vertexOfRow[row];
+		v.Q() = Scalarm(r.vertex_deviation[row]);
+		if (r.vertex_symmetry_id[row] < 0)
+			v.C() = vcg::Color4b(vcg::Color4b::Gray);
+		else
+			v.C().SetColorRamp(float(-range), float(range), float(r.vertex_deviation[row]));
+	}
+}
+
+/// Per-vertex Scalarm attribute `symmetry_id`, replacing one left by an earlier run
+/// (whatever its type).  Deleted vertices get -1.
+void writeSymmetryIdAttribute(CMeshO& m, const HostMesh& h, const symmetry::DetectionResult& r)
+{
+	if (vcg::tri::HasPerVertexAttribute(m, kSymmetryIdAttribute))
+		vcg::tri::Allocator<CMeshO>::DeletePerVertexAttribute(m, kSymmetryIdAttribute);
+	auto id = vcg::tri::Allocator<CMeshO>::AddPerVertexAttribute<Scalarm>(m, kSymmetryIdAttribute);
+	for (CVertexO& v : m.vert)
+		id[v] = Scalarm(-1);
+	for (size_t row = 0; row < h.vertexOfRow.size(); ++row)
+		id[*h.vertexOfRow[row]] = Scalarm(r.vertex_symmetry_id[row]);
+}
+
+/// Copies of the input vertices in `rows` (with position, normal, colour, quality) and
+/// of the faces whose three vertices are all among them.
+CMeshO patchMesh(const HostMesh& h, const std::vector<int>& rows)
+{
+	std::vector<int> patchIndex(size_t(h.V.rows()), -1);
+	for (int row : rows)
+		patchIndex[size_t(row)] = 0;
+	int n = 0;
+	for (int& i : patchIndex)
+		if (i == 0)
+			i = n++;
+
+	CMeshO patch;
+	vcg::tri::Allocator<CMeshO>::AddVertices(patch, size_t(n));
+	for (size_t row = 0; row < patchIndex.size(); ++row) {
+		if (patchIndex[row] < 0)
+			continue;
+		CVertexO& dst = patch.vert[size_t(patchIndex[row])];
+		const CVertexO& src = *h.vertexOfRow[row];
+		dst.P() = src.cP();
+		dst.N() = src.cN();
+		dst.C() = src.cC();
+		dst.Q() = src.cQ();
+	}
+
+	std::vector<Eigen::Vector3i> faces;
+	for (Eigen::Index f = 0; f < h.F.rows(); ++f) {
+		Eigen::Vector3i t(patchIndex[size_t(h.F(f, 0))], patchIndex[size_t(h.F(f, 1))],
+		                  patchIndex[size_t(h.F(f, 2))]);
+		if (t.minCoeff() >= 0)
+			faces.push_back(t);
+	}
+	if (!faces.empty()) {
+		auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(patch, faces.size());
+		for (size_t i = 0; i < faces.size(); ++i, ++fi)
+			for (int c = 0; c < 3; ++c)
+				fi->V(c) = &patch.vert[size_t(faces[i][c])];
+	}
+	return patch;
+}
+
+QString groupLabel(const symmetry::DetectedSymmetry& s)
+{
+	const symmetry::Transformation& t = s.transform;
+	if (t.reflection)
+		return "reflection";
+	if (std::abs(t.scale - 1) > 1e-6)
+		return "similarity";
+	if ((t.rotation - Eigen::Matrix3d::Identity()).norm() < 1e-6)
+		return "translation";
+	return "rotation";
+}
+
+QString wordText(const symmetry::Word& word)
+{
+	QStringList letters;
+	for (int letter : word)
+		letters << QString("%1g%2").arg(letter < 0 ? "-" : "+").arg(std::abs(letter) - 1);
+	return letters.isEmpty() ? QString("identity") : letters.join(" ");
+}
+
+QVariant vector(const std::vector<double>& values)
+{
+	Eigen::VectorXd v(Eigen::Index(values.size()));
+	for (size_t i = 0; i < values.size(); ++i)
+		v[Eigen::Index(i)] = values[i];
+	return QVariant::fromValue(v);
+}
+
+std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r, const symmetry::DetectionOptions& o,
+                                             const std::vector<int>& layerIds)
+{
+	const int count = int(r.symmetries.size());
+	const int loop = std::max(o.basis_loop_length, 1);
+	std::vector<double> transforms, scales, reflections, rms, areas, supports, generators, words;
+	for (const symmetry::DetectedSymmetry& s : r.symmetries) {
+		const Eigen::Matrix4d m = s.transform.matrix();
+		for (int i = 0; i < 4; ++i)
+			for (int j = 0; j < 4; ++j)
+				transforms.push_back(m(i, j));
+		scales.push_back(s.transform.scale);
+		reflections.push_back(s.transform.reflection ? 1 : 0);
+		rms.push_back(s.rms_error);
+		areas.push_back(s.source_area);
+		supports.push_back(s.support);
+		generators.push_back(s.is_generator ? 1 : 0);
+		for (int i = 0; i < loop; ++i)
+			words.push_back(i < int(s.word.size()) ? s.word[size_t(i)] : 0);
+	}
+	std::vector<double> layers(layerIds.begin(), layerIds.end());
+
+	std::map<std::string, QVariant> out;
+	out["symmetry_count"] = QVariant(count);
+	out["transforms"] = vector(transforms);
+	out["scales"] = vector(scales);
+	out["is_reflection"] = vector(reflections);
+	out["rms_errors"] = vector(rms);
+	out["source_areas"] = vector(areas);
+	out["supports"] = vector(supports);
+	out["generator_count"] = QVariant(r.generator_count);
+	out["is_generator"] = vector(generators);
+	out["basis_words"] = vector(words);
+	out["patch_layer_ids"] = vector(layers);
+	out["seconds_signatures"] = QVariant(r.seconds_signatures);
+	out["seconds_pairing"] = QVariant(r.seconds_pairing);
+	out["seconds_clustering"] = QVariant(r.seconds_clustering);
+	out["seconds_verification"] = QVariant(r.seconds_verification);
+	out["samples"] = QVariant(r.samples);
+	out["pruned_samples"] = QVariant(r.pruned_samples);
+	out["pairs"] = QVariant(r.pairs);
+	out["clusters"] = QVariant(r.clusters);
+	return out;
+}
+
+}  // namespace
+
+FilterSymmetryPlugin::FilterSymmetryPlugin()
+{
+	typeList = {FP_PARTIAL_SYMMETRIES};
+	for (ActionIDType id : types())
+		actionList.push_back(new QAction(filterName(id), this));
+}
+
+QString FilterSymmetryPlugin::pluginName() const
+{
+	return "FilterSymmetry";
+}
+
+QString FilterSymmetryPlugin::filterName(ActionIDType filter) const
+{
+	switch (filter) {
+	case FP_PARTIAL_SYMMETRIES: return "Detect Partial and Approximate Symmetries";
+	default: assert(0); return QString();
+	}
+}
+
+QString FilterSymmetryPlugin::pythonFilterName(ActionIDType filter) const
+{
+	switch (filter) {
+	case FP_PARTIAL_SYMMETRIES: return "compute_partial_symmetries";
+	default: assert(0); return QString();
+	}
+}
+
+QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
+{
+	switch (filter) {
+	case FP_PARTIAL_SYMMETRIES:
+		return "Finds parts of the surface that are mapped onto other parts by a rotation, reflection, "
+		       "translation or uniform scaling, even when the symmetry is only partial (it holds on some "
+		       "patches, not on the whole model) and approximate (it holds up to a tolerance).<br>"
+		       "Curvature signatures are computed at surface samples; pairs of similar samples vote for the "
+		       "transformation that maps one onto the other; mean-shift clustering of the votes in "
+		       "transformation space gives candidate symmetries, each verified by growing the pair of patches "
+		       "it maps onto each other; finally the symmetries are reduced to a few generators.<br><br>"
+		       "<b>Outputs</b><br>"
+		       "<i>Vertex quality</i>: signed deviation from perfect symmetry of each vertex under the most "
+		       "significant symmetry it belongs to, as a fraction of the bounding-box diagonal (Figure 1 of "
+		       "the paper); 0 where no symmetry holds.<br>"
+		       "<i>Vertex colour</i>: a ramp over that deviation, symmetric around 0; grey where no symmetry "
+		       "holds.<br>"
+		       "<i>Attribute symmetry_id</i> (per vertex, scalar): index of that symmetry, -1 where none "
+		       "holds.<br>"
+		       "<i>Layers symmetry_k_source and symmetry_k_target</i> (if <i>Create patch layers</i> is on): "
+		       "the two patches that symmetry k maps onto each other; the input stays the current mesh.<br>"
+		       "<i>Returned values</i>: symmetry_count; transforms (16 numbers per symmetry, the row-major 4x4 "
+		       "matrix mapping the source patch onto the target); scales, is_reflection, rms_errors (fraction "
+		       "of the diagonal), source_areas (fraction of the total area) and supports (votes in the cluster), "
+		       "one per symmetry; generator_count, is_generator and basis_words (basis_loop_length letters per "
+		       "symmetry, padded with 0: letter +k is generator k-1, -k its inverse); patch_layer_ids (source "
+		       "and target layer id per symmetry, -1 without layers); stage times seconds_signatures, "
+		       "seconds_pairing, seconds_clustering, seconds_verification; work counts samples, pruned_samples, "
+		       "pairs, clusters.<br><br>"
+		       "See:<br><i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i><br>"
+		       "<b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b><br>"
+		       "ACM Transactions on Graphics 25(3) (SIGGRAPH 2006), pages 560-568.";
+	default: assert(0); return QString();
+	}
+}
+
+FilterPlugin::FilterClass FilterSymmetryPlugin::getClass(const QAction*) const
+{
+	return FilterPlugin::Measure;
+}
+
+FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction*) const
+{
+	return SINGLE_MESH;
+}
+
+int FilterSymmetryPlugin::getPreConditions(const QAction*) const
+{
+	return MeshModel::MM_FACENUMBER;
+}
+
+int FilterSymmetryPlugin::postCondition(const QAction*) const
+{
+	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+}
+
+RichParameterList FilterSymmetryPlugin::initParameterList(const QAction* action, const MeshModel& m)
+{
+	RichParameterList parameters;
+	switch (ID(action)) {
+	case FP_PARTIAL_SYMMETRIES:
+		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), m.cm.bbox.Diag(), true, parameters);
+		break;
+	default: wrongActionCalled(action);
+	}
+	return parameters;
+}
+
+std::map<std::string, QVariant> FilterSymmetryPlugin::applyFilter(
+	const QAction* action, const RichParameterList& parameters, MeshDocument& md, unsigned int& /*postConditionMask*/,
+	vcg::CallBackPos* cb)
+{
+	switch (ID(action)) {
+	case FP_PARTIAL_SYMMETRIES: return detectPartialSymmetries(md, parameters, cb);
+	default: wrongActionCalled(action);
+	}
+	return {};
+}
+
+std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
+	MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* input = md.mm();
+	if (input == nullptr)
+		throw MLException("There is no current mesh to detect symmetries on.");
+	CMeshO& m = input->cm;
+
+	HostMesh host;
+	symmetry::DetectionOptions options;
+	symmetry::DetectionResult result;
+	try {
+		// The host turned the percentages into lengths with this diagonal; undo it the same way.
+		const double diagonal = m.bbox.IsNull() ? 0.0 : double(m.bbox.Diag());
+		options = symmetry_parameters::fromRichParameterList(parameters, diagonal);
+		options.validate();
+		host = copyMesh(m);
+		// The core reports on this thread only, so forwarding to MeshLab's callback is safe.
+		symmetry::Progress progress = [cb](int percent, const char* stage) {
+			if (cb != nullptr)
+				cb(std::clamp(percent, 0, 100), stage);
+		};
+		result = symmetry::detect_partial_symmetries(host.V, host.F, options, progress);
+		checkResult(result, host.V.rows(), options);
+	}
+	catch (const symmetry::InputError& e) {
+		throw MLException(QString::fromStdString(e.what()));
+	}
+	catch (const MLException&) {
+		throw;
+	}
+	catch (const std::bad_alloc&) {
+		throw MLException(
+			"Symmetry detection ran out of memory. The mesh was left unchanged; try fewer samples "
+			"(sample_count, pair_sample_count).");
+	}
+	catch (const std::exception& e) {
+		throw MLException(
+			QString("Symmetry detection failed because of an internal error (%1). The mesh was left unchanged; "
+			        "please report this with the mesh and the parameters used.")
+				.arg(QString::fromLocal8Bit(e.what())));
+	}
+	catch (...) {
+		throw MLException(
+			"Symmetry detection failed because of an unknown internal error. The mesh was left unchanged; "
+			"please report this with the mesh and the parameters used.");
+	}
+
+	// Detection succeeded: from here on the document is written.
+	std::vector<int> layerIds(2 * result.symmetries.size(), -1);
+	try {
+		writeQualityAndColour(*input, host, result);
+		writeSymmetryIdAttribute(m, host, result);
+		if (symmetry_parameters::createPatchLayers(parameters)) {
+			const int inputId = int(input->id());
+			for (size_t k = 0; k < result.symmetries.size(); ++k) {
+				const symmetry::DetectedSymmetry& s = result.symmetries[k];
+				const QString name = QString("symmetry_%1_").arg(k);
+				layerIds[2 * k] = int(md.addNewMesh(patchMesh(host, s.source_vertices), name + "source", false)->id());
+				layerIds[2 * k + 1] =
+					int(md.addNewMesh(patchMesh(host, s.target_vertices), name + "target", false)->id());
+			}
+			md.setCurrentMesh(inputId);
+		}
+	}
+	catch (const std::bad_alloc&) {
+		throw MLException("Symmetry detection ran out of memory while writing its results.");
+	}
+
+	for (size_t k = 0; k < result.symmetries.size(); ++k) {
+		const symmetry::DetectedSymmetry& s = result.symmetries[k];
+		log("Symmetry %d: %s, %d -> %d vertices, scale %.4g, rms error %.3g%% of the diagonal, support %d, "
+		    "source area %.3g%%, %s (%s)",
+		    int(k), qUtf8Printable(groupLabel(s)), int(s.source_vertices.size()), int(s.target_vertices.size()),
+		    s.transform.scale, 100 * s.rms_error, s.support, 100 * s.source_area,
+		    s.is_generator ? "generator" : "compound", qUtf8Printable(wordText(s.word)));
+	}
+	log("%d symmetries (%d generators) from %d samples (%d after pruning), %d pairs, %d clusters; "
+	    "%.2f s signatures, %.2f s pairing, %.2f s clustering, %.2f s verification",
+	    int(result.symmetries.size()), result.generator_count, result.samples, result.pruned_samples, result.pairs,
+	    result.clusters, result.seconds_signatures, result.seconds_pairing, result.seconds_clustering,
+	    result.seconds_verification);
+
+	return outputValues(result, options, layerIds);
+}
+
+MESHLAB_PLUGIN_NAME_EXPORTER(FilterSymmetryPlugin)

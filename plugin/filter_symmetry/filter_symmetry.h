@@ -1,0 +1,51 @@
+// MeshLab 2025.07 adapter for partial and approximate symmetry detection
+// (Mitra, Guibas, Pauly, SIGGRAPH 2006).  It converts the current mesh and the
+// parameters for the core (plugin/core/detection.h), calls it, and writes the
+// result back as vertex quality, colour, a `symmetry_id` attribute and patch layers.
+// It holds no algorithm.
+#pragma once
+
+#include <common/plugins/interfaces/filter_plugin.h>
+
+class FilterSymmetryPlugin : public QObject, public FilterPlugin
+{
+	Q_OBJECT
+	MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID)
+	Q_INTERFACES(FilterPlugin)
+
+public:
+	enum { FP_PARTIAL_SYMMETRIES };
+
+	FilterSymmetryPlugin();
+
+	/// "FilterSymmetry".
+	QString pluginName() const override;
+	/// The menu entry, "Detect Partial and Approximate Symmetries".
+	QString filterName(ActionIDType filter) const override;
+	/// compute_partial_symmetries: public API, never rename.
+	QString pythonFilterName(ActionIDType filter) const override;
+	/// Paper reference and the meaning of every output.
+	QString filterInfo(ActionIDType filter) const override;
+	FilterClass getClass(const QAction* action) const override;
+	/// SINGLE_MESH: the current mesh is the input.
+	FilterArity filterArity(const QAction* action) const override;
+	/// A triangle mesh: MM_FACENUMBER.
+	int getPreConditions(const QAction* action) const override;
+	/// Vertex quality and colour; new layers are added but never modified afterwards.
+	int postCondition(const QAction* action) const override;
+	/// The parameters in their public order, defaults from symmetry::DetectionOptions.
+	RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
+	/// Dispatches to detectPartialSymmetries().
+	std::map<std::string, QVariant> applyFilter(
+		const QAction* action,
+		const RichParameterList& parameters,
+		MeshDocument& md,
+		unsigned int& postConditionMask,
+		vcg::CallBackPos* cb) override;
+
+private:
+	/// Runs the core on the current mesh and, only once it has succeeded, writes the
+	/// outputs.  Every failure becomes an MLException and leaves the document unchanged.
+	std::map<std::string, QVariant> detectPartialSymmetries(
+		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+};

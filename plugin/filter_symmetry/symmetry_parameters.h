@@ -1,0 +1,31 @@
+// The two-way converter between MeshLab's RichParameterList and the core's
+// DetectionOptions (as filter_icp's icp_align_parameter does for AlignPair::Param).
+// The parameter names are public API (pymeshlab keyword arguments): never rename them.
+#pragma once
+
+#include <core/detection.h>
+
+#include <common/parameters/rich_parameter_list.h>
+
+namespace symmetry_parameters {
+
+/// Appends the filter's parameters, in their public order, to `parameters`, with the
+/// values of `options` as defaults.  `createPatchLayers` is the one parameter the core
+/// does not see: it only tells the adapter whether to write the patches as layers.  Lengths the core takes as fractions of the
+/// bounding-box diagonal become RichPercentage values; `diagonal` is the diagonal of
+/// the mesh the dialog is opened on (the absolute value a percentage stands for).
+void toRichParameterList(const symmetry::DetectionOptions& options, double diagonal, bool createPatchLayers,
+                         RichParameterList& parameters);
+
+/// Reads the parameters back into the core's units: percentages of the diagonal become
+/// fractions of `diagonal`, the patch area in percent becomes a fraction.  No range check
+/// here; DetectionOptions::validate() is the one place that judges the values.  If
+/// `diagonal` is not a positive finite number (a mesh with no usable bounding box), the
+/// length parameters keep the core's defaults so that the mesh itself, not a derived
+/// length, is what the core rejects.
+symmetry::DetectionOptions fromRichParameterList(const RichParameterList& parameters, double diagonal);
+
+/// The value of create_patch_layers.
+bool createPatchLayers(const RichParameterList& parameters);
+
+}  // namespace symmetry_parameters

@@ -1,0 +1,107 @@
+// The whole pipeline on planted scenes: the planted transformation must be among the
+// detected ones, its patches must be where they were planted, and the run must be a
+// function of the seed.
+#include "core/detection.h"
+#include "test_shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+using namespace symmetry;
+using namespace symmetry::testing;
+
+namespace {
+
+// A torus whose tube swells on one side: no continuous rotational symmetry, and
+// curvatures that vary along the tube, so there are many non-umbilic samples.
+Shape swollen_torus(int around, int tube) {
+    Shape s = torus(2.0, 1.0, around, tube);
+    for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
+        Eigen::Vector3d p = s.V.row(i);
+        double u = std::atan2(p.y(), p.x());
+        Eigen::Vector3d axis_point(2.0 * std::cos(u), 2.0 * std::sin(u), 0.0);
+        double r = 0.6 + 0.25 * std::cos(u);
+        s.V.row(i) = (axis_point + (p - axis_point) * r).transpose();
+    }
+    return s;
+}
+
+// Largest displacement between two transformations over the given points.
+double displacement(const Transformation& a, const Transformation& b, const Eigen::MatrixX3d& points) {
+    double worst = 0;
+    for (Eigen::Index i = 0; i < points.rows(); ++i) {
+        Eigen::Vector3d p = points.row(i);
+        worst = std::max(worst, (a.apply(p) - b.apply(p)).norm());
+    }
+    return worst;
+}
+
+struct Scene {
+    Shape shape;
+    Transformation planted;  // maps the first copy onto the second
+    int base_vertices;
+};
+
+Scene rigid_copy_scene() {
+    Shape base = swollen_torus(160, 48);
+    Shape copy_source = swollen_torus(149, 43);  // another tessellation of the same surface
+    Scene scene;
+    scene.planted.rotation = Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+    scene.planted.translation = Eigen::Vector3d(7, 1, 0);
+    scene.shape = merged(base, transformed(copy_source, scene.planted.linear(), scene.planted.translation));
+    scene.base_vertices = int(base.V.rows());
+    return scene;
+}
+
+}  // namespace
+
+TEST(Detection, FindsAPlantedRigidCopy) {
+    Scene scene = rigid_copy_scene();
+    DetectionOptions options;
+    DetectionResult result = detect_partial_symmetries(scene.shape.V, scene.shape.F, options);
+    ASSERT_GT(result.symmetries.size(), 0u);
+    const double diagonal = (scene.shape.V.colwise().maxCoeff() - scene.shape.V.colwise().minCoeff()).norm();
+    Eigen::MatrixX3d base = scene.shape.V.topRows(scene.base_vertices);
+    bool found = false;
+    for (const auto& s : result.symmetries) {
+        double forward = displacement(s.transform, scene.planted, base);
+        double backward = displacement(s.transform.inverse(), scene.planted, base);
+        if (std::min(forward, backward) < 0.005 * diagonal) {
+            found = true;
+            // The source patch covers most of one copy.
+            EXPECT_GT(s.source_area, 0.4);
+            EXPECT_LT(s.rms_error, 0.002);
+        }
+    }
+    EXPECT_TRUE(found);
+    // Every vertex listed in a patch carries that patch's id or a more significant one.
+    for (size_t k = 0; k < result.symmetries.size(); ++k)
+        for (int v : result.symmetries[k].source_vertices) EXPECT_LE(result.vertex_symmetry_id[v], int(k));
+}
+
+TEST(Detection, DeterministicForASeed) {
+    Scene scene = rigid_copy_scene();
+    DetectionOptions options;
+    options.random_seed = 7;
+    DetectionResult a = detect_partial_symmetries(scene.shape.V, scene.shape.F, options);
+    DetectionResult b = detect_partial_symmetries(scene.shape.V, scene.shape.F, options);
+    ASSERT_EQ(a.symmetries.size(), b.symmetries.size());
+    for (size_t k = 0; k < a.symmetries.size(); ++k) {
+        EXPECT_EQ(a.symmetries[k].transform.matrix(), b.symmetries[k].transform.matrix());
+        EXPECT_EQ(a.symmetries[k].source_vertices, b.symmetries[k].source_vertices);
+    }
+    EXPECT_EQ(a.vertex_deviation, b.vertex_deviation);
+}
+
+TEST(Detection, RejectsAbsurdParametersWithASentence) {
+    Scene scene = rigid_copy_scene();
+    DetectionOptions options;
+    options.umbilic_ratio = 1.5;
+    try {
+        detect_partial_symmetries(scene.shape.V, scene.shape.F, options);
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("umbilic_ratio"), std::string::npos);
+    }
+}

@@ -1,0 +1,159 @@
+// Verification (§4): region growing finds the planted patches, ICP recovers the planted
+// transformation from a perturbed one, and a wrong transformation is rejected.
+#include "core/verification.h"
+#include "test_shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+using namespace symmetry;
+using namespace symmetry::testing;
+
+namespace {
+
+struct Scene {
+    Mesh mesh;
+    std::vector<int> vertex_of_input;
+    Transformation planted;
+    int base_vertices = 0;
+};
+
+// A bumpy torus (no continuous symmetry) and a re-tessellated copy under `planted`.
+Shape bumpy_torus(int around, int tube) {
+    Shape s = torus(2.0, 0.7, around, tube);
+    for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
+        Eigen::Vector3d p = s.V.row(i);
+        double u = std::atan2(p.y(), p.x());
+        Eigen::Vector3d c(2.0 * std::cos(u), 2.0 * std::sin(u), 0.0);
+        s.V.row(i) = (c + (p - c) * (1.0 + 0.3 * std::cos(u) + 0.1 * std::sin(3 * u))).transpose();
+    }
+    return s;
+}
+
+void build(Scene& scene) {
+    Shape base = bumpy_torus(150, 40);
+    Shape copy = bumpy_torus(137, 37);
+    Shape moved = transformed(copy, scene.planted.linear(), scene.planted.translation);
+    Shape all = merged(base, moved);
+    scene.base_vertices = int(base.V.rows());
+    build_mesh(all.V, all.F, scene.mesh, scene.vertex_of_input);
+}
+
+double worst_displacement(const Transformation& a, const Transformation& b, const Mesh& mesh, int count) {
+    double worst = 0;
+    for (int v = 0; v < count; ++v) {
+        Eigen::Vector3d p(mesh.vert[v].cP()[0], mesh.vert[v].cP()[1], mesh.vert[v].cP()[2]);
+        worst = std::max(worst, (a.apply(p) - b.apply(p)).norm());
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST(Verification, GrowsThePlantedPatchAndRefinesWithIcp) {
+    for (int group = 0; group < 2; ++group) {
+        Scene scene;
+        scene.planted.rotation = Eigen::AngleAxisd(2.2, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+        scene.planted.translation = Eigen::Vector3d(8, 0, 1);
+        scene.planted.reflection = group == 1;  // a mirrored copy
+        build(scene);
+        const double diagonal = scene.mesh.bbox.Diag();
+        const double area = surface_area(scene.mesh);
+        auto adjacency = vertex_neighbours(scene.mesh);
+        SurfaceQuery surface(scene.mesh);
+
+        Transformation rough = scene.planted;
+        rough.rotation = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ()).toRotationMatrix() * rough.rotation;
+        rough.translation += Eigen::Vector3d(0.02, -0.01, 0.01);
+        VerificationOptions options;
+        options.tolerance = 0.01 * diagonal;
+        options.min_patch_area = 0.05 * area;
+        options.min_displacement = 0.05 * diagonal;
+        auto result = verify_by_region_growing(scene.mesh, adjacency, surface, rough, {5, 700}, options);
+        ASSERT_TRUE(result.has_value());
+        // The whole base torus, and only it, is the source patch; the copy is the target.
+        EXPECT_NEAR(result->source_area / area, 0.5, 0.02);
+        int outside = 0;
+        for (int v : result->source_vertices) outside += v >= scene.base_vertices;
+        EXPECT_EQ(outside, 0);
+        int inside = 0;
+        for (int w : result->target_vertices) inside += w >= scene.base_vertices;
+        EXPECT_GT(inside, 0.95 * (scene.mesh.vert.size() - scene.base_vertices));
+        // ICP brought the rough transformation back to the planted one.
+        EXPECT_EQ(result->transform.reflection, scene.planted.reflection);
+        double before = worst_displacement(rough, scene.planted, scene.mesh, scene.base_vertices);
+        double after = worst_displacement(result->transform, scene.planted, scene.mesh, scene.base_vertices);
+        EXPECT_LT(after, 0.25 * before);
+        EXPECT_LT(after, 0.002 * diagonal);
+        EXPECT_LT(result->rms_error, 0.002 * diagonal);
+        EXPECT_EQ(result->source_deviation.size(), result->source_vertices.size());
+        EXPECT_EQ(result->target_deviation.size(), result->target_vertices.size());
+    }
+}
+
+TEST(Verification, NeverReportsWhatIsNotThere) {
+    Scene scene;
+    scene.planted.translation = Eigen::Vector3d(8, 0, 0);
+    build(scene);
+    const double diagonal = scene.mesh.bbox.Diag();
+    auto adjacency = vertex_neighbours(scene.mesh);
+    SurfaceQuery surface(scene.mesh);
+    VerificationOptions options;
+    options.tolerance = 0.01 * diagonal;
+    options.min_patch_area = 0.05 * surface_area(scene.mesh);
+    options.min_displacement = 0.05 * diagonal;
+    // Into empty space: nothing matches.
+    Transformation away = scene.planted;
+    away.translation = Eigen::Vector3d(0, 30, 0);
+    EXPECT_FALSE(verify_by_region_growing(scene.mesh, adjacency, surface, away, {5, 700}, options).has_value());
+    // The identity maps everything onto itself but moves nothing: not a symmetry.
+    EXPECT_FALSE(verify_by_region_growing(scene.mesh, adjacency, surface, Transformation(), {5}, options).has_value());
+    // A wrong rotation either fails or is pulled by ICP onto a true symmetry of the
+    // scene; whatever is returned must map its patch onto the surface.
+    for (double angle : {0.3, 0.6, 1.5}) {
+        Transformation wrong = scene.planted;
+        wrong.rotation = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
+        auto result = verify_by_region_growing(scene.mesh, adjacency, surface, wrong, {5, 700}, options);
+        if (!result) continue;
+        EXPECT_LT(result->rms_error, 0.002 * diagonal) << "angle " << angle;
+        for (size_t i = 0; i < result->source_vertices.size(); i += 97) {
+            const auto& p = scene.mesh.vert[result->source_vertices[i]].cP();
+            ClosestPoint cp = surface.closest(result->transform.apply(Eigen::Vector3d(p[0], p[1], p[2])), options.tolerance);
+            EXPECT_TRUE(cp.found);
+        }
+    }
+}
+
+TEST(Verification, FitTransformationRecoversEachGroup) {
+    std::mt19937_64 rng(9);
+    std::normal_distribution<double> n;
+    std::vector<Eigen::Vector3d> source;
+    for (int i = 0; i < 50; ++i) source.push_back(Eigen::Vector3d(n(rng), n(rng), n(rng)));
+    auto check = [&](const Transformation& T, TransformationGroup group) {
+        std::vector<Eigen::Vector3d> target;
+        for (const auto& p : source) target.push_back(T.apply(p));
+        Transformation fit = fit_transformation(source, target, group, T.reflection);
+        EXPECT_LT((fit.matrix() - T.matrix()).norm(), 1e-9) << "group " << int(group);
+    };
+    Transformation rigid;
+    rigid.rotation = Eigen::AngleAxisd(1.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    rigid.translation = Eigen::Vector3d(1, -2, 0.5);
+    check(rigid, TransformationGroup::Rigid);
+    Transformation improper = rigid;
+    improper.reflection = true;
+    check(improper, TransformationGroup::Rigid);
+    Transformation similarity = rigid;
+    similarity.scale = 0.6;
+    check(similarity, TransformationGroup::Similarity);
+    Transformation mirror;  // through the plane n·x = 0.7
+    Eigen::Vector3d normal = Eigen::Vector3d(1, 1, 0).normalized();
+    mirror.reflection = true;
+    mirror.rotation = (Eigen::Matrix3d::Identity() - 2 * normal * normal.transpose()) * Transformation::mirror();
+    mirror.translation = 2 * 0.7 * normal;
+    check(mirror, TransformationGroup::Reflections);
+    Transformation shift;
+    shift.translation = Eigen::Vector3d(3, 0, -1);
+    check(shift, TransformationGroup::Translations);
+}

@@ -1,0 +1,104 @@
+"""Shared fixtures for the Python tests of the symmetry filter (they use the built plugin).
+
+- ``meshset(V, F=None, label="input")``: a pymeshlab.MeshSet whose current mesh has
+  the given vertices (#V by 3) and triangles (#F by 3); F=None gives a point cloud.
+- ``mesh_snapshot(ms)`` / ``assert_mesh_unchanged(ms, snapshot)``: what a failed filter
+  call must leave as it was.
+- ``pipeline_built``: False while the core still throws "not built yet";
+  ``requires_pipeline``: skips a test in exactly that case, so such tests run by
+  themselves as soon as the pipeline lands.
+- ``mirror_symmetric_mesh()``: (V, F) of a closed surface whose only symmetry is the
+  mirror x -> -x, with curvature that varies everywhere (no umbilic plateaus).
+"""
+import numpy as np
+import pymeshlab
+import pytest
+
+import meshlab_symmetry
+
+FILTER = meshlab_symmetry.FILTER_NAME
+NOT_BUILT_MESSAGE = "detection pipeline is not built yet"
+
+
+def make_meshset(vertices, faces=None, label="input"):
+    vertices = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+    if faces is None or len(faces) == 0:
+        mesh = pymeshlab.Mesh(vertex_matrix=vertices)
+    else:
+        mesh = pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=np.asarray(faces, dtype=np.int32).reshape(-1, 3))
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(mesh, label)
+    return ms
+
+
+@pytest.fixture
+def meshset():
+    """Factory: ``meshset(V, F=None, label="input") -> pymeshlab.MeshSet``."""
+    return make_meshset
+
+
+def sphere(subdivisions=3):
+    """(V, F) of pymeshlab's icosphere of radius 1."""
+    ms = pymeshlab.MeshSet()
+    ms.create_sphere(subdiv=subdivisions)
+    m = ms.current_mesh()
+    return m.vertex_matrix().copy(), m.face_matrix().copy()
+
+
+def mirror_symmetric_mesh(subdivisions=4):
+    """A bumpy sphere r(p) = 1 + 0.35 x^2 + 0.2 y + 0.15 z^3 (p on the unit sphere): symmetric
+    under x -> -x only (the y and z^3 terms break every other mirror and rotation)."""
+    V, F = sphere(subdivisions)
+    u = V / np.linalg.norm(V, axis=1, keepdims=True)
+    x, y, z = u[:, 0], u[:, 1], u[:, 2]
+    r = 1 + 0.35 * x ** 2 + 0.2 * y + 0.15 * z ** 3
+    return u * r[:, None], F
+
+
+def mesh_snapshot(ms):
+    """Everything about the document a failed call must not change."""
+    m = ms.current_mesh()
+    return {
+        "current_id": ms.current_mesh_id(),
+        "mesh_count": ms.mesh_number(),
+        "vertex_count": m.vertex_number(),
+        "face_count": m.face_number(),
+        "vertices": m.vertex_matrix().copy(),
+        "has_symmetry_id": has_vertex_attribute(m, "symmetry_id"),
+    }
+
+
+def assert_mesh_unchanged(ms, snapshot):
+    after = mesh_snapshot(ms)
+    for key in ("current_id", "mesh_count", "vertex_count", "face_count", "has_symmetry_id"):
+        assert after[key] == snapshot[key], key
+    np.testing.assert_array_equal(after["vertices"], snapshot["vertices"])  # NaN equals NaN here
+
+
+def has_vertex_attribute(mesh, name):
+    try:
+        mesh.vertex_custom_scalar_attribute_array(name)
+        return True
+    except pymeshlab.PyMeshLabException:
+        return False
+
+
+@pytest.fixture(scope="session")
+def pipeline_built():
+    """Runs the filter once on a tetrahedron (cheap, valid defaults): False only if the core
+    says it is not built."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+    F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    ms = make_meshset(V, F)
+    try:
+        getattr(ms, FILTER)(create_patch_layers=False)
+    except pymeshlab.PyMeshLabException as e:
+        if NOT_BUILT_MESSAGE in str(e):
+            return False
+    return True
+
+
+@pytest.fixture
+def requires_pipeline(pipeline_built):
+    if not pipeline_built:
+        pytest.skip("the core's detection pipeline is not built yet")
