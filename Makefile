@@ -33,10 +33,14 @@ third_party/meshlab/.verified: scripts/fetch_meshlab_source.sh $(STAMPS)/apt
 	@scripts/fetch_meshlab_source.sh $(ROOT)/third_party
 
 build: setup
-	@test -f $(BUILD)/build.ninja || cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DPYMESHLAB_DIR="$$($(PY) -c 'import os, pymeshlab; print(os.path.dirname(pymeshlab.__file__))')" > /dev/null
+	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev \
+	  -DPYMESHLAB_DIR="$$($(PY) -c 'import os, pymeshlab; print(os.path.dirname(pymeshlab.__file__))')" > $(BUILD).configure.log 2>&1 \
+	  || { cat $(BUILD).configure.log; exit 1; }
 	@cmake --build $(BUILD)
-	@cp -u $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN)
+	@# Replace the plugin by renaming, never in place: a Python process that has it loaded
+	@# would crash (SIGBUS) on a file rewritten under it.
+	@cmp -s $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN) || \
+	  { cp $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN).tmp && mv -f $(PLUGIN).tmp $(PLUGIN); }
 
 demo: build
 	$(PY) -m meshlab_symmetry $(DEMO_MESH)
