@@ -24,7 +24,7 @@ ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_dist
     vcg::face::PointDistanceBaseFunctor<double> point_face_distance;
     const vcg::Point3d p(query.x(), query.y(), query.z());
     double distance = max_distance;
-    vcg::Point3d nearest;
+    vcg::Point3d nearest(0, 0, 0);
     Face* f = grid_->grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
     if (f == nullptr) return result;
     result.found = true;

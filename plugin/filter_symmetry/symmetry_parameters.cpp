@@ -54,8 +54,9 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, b
 		"have ill-defined principal directions and are not paired."));
 	parameters.addParam(RichFloat(
 		"signature_tolerance", o.signature_tolerance, "Signature tolerance",
-		"Radius of the range query in the space of curvature signatures (§2.2), dimensionless: two samples "
-		"are paired only if their curvature ratios differ by less than this."));
+		"Radius of the range query in signature space (§2.2), dimensionless: two samples are paired only if "
+		"their signatures differ by less than this. The signature is the pair of principal curvatures times "
+		"the curvature radius, or for similarities the shape index (a scale-free function of k1/k2, in [-1, 1])."));
 	parameters.addParam(RichPercentage(
 		"cluster_bandwidth", o.cluster_bandwidth * d, 0, d, "Clustering bandwidth",
 		"Kernel width h of mean-shift clustering in transformation space (§3.1). Distances in that space "

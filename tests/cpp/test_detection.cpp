@@ -16,15 +16,7 @@ namespace {
 // A torus whose tube swells on one side: no continuous rotational symmetry, and
 // curvatures that vary along the tube, so there are many non-umbilic samples.
 Shape swollen_torus(int around, int tube) {
-    Shape s = torus(2.0, 1.0, around, tube);
-    for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
-        Eigen::Vector3d p = s.V.row(i);
-        double u = std::atan2(p.y(), p.x());
-        Eigen::Vector3d axis_point(2.0 * std::cos(u), 2.0 * std::sin(u), 0.0);
-        double r = 0.6 + 0.25 * std::cos(u);
-        s.V.row(i) = (axis_point + (p - axis_point) * r).transpose();
-    }
-    return s;
+    return deformed_torus(2.0, 1.0, around, tube, [](double u) { return 0.6 + 0.25 * std::cos(u); });
 }
 
 // Largest displacement between two transformations over the given points.

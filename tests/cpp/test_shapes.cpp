@@ -84,6 +84,17 @@ Shape torus(double R, double r, int around, int tube) {
     return s;
 }
 
+Shape deformed_torus(double R, double r, int around, int tube, const std::function<double(double)>& tube_scale) {
+    Shape s = torus(R, r, around, tube);
+    for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
+        Eigen::Vector3d p = s.V.row(i);
+        double u = std::atan2(p.y(), p.x());
+        Eigen::Vector3d centre(R * std::cos(u), R * std::sin(u), 0.0);
+        s.V.row(i) = (centre + (p - centre) * tube_scale(u)).transpose();
+    }
+    return s;
+}
+
 Shape transformed(const Shape& s, const Eigen::Matrix3d& A, const Eigen::Vector3d& t) {
     Shape out = s;
     for (Eigen::Index i = 0; i < s.V.rows(); ++i) out.V.row(i) = (A * s.V.row(i).transpose() + t).transpose();

@@ -3,6 +3,8 @@
 
 #include <Eigen/Core>
 
+#include <functional>
+
 namespace symmetry::testing {
 
 struct Shape {
@@ -16,6 +18,9 @@ Shape sphere(double radius, int levels);
 Shape cylinder(double radius, double height, int around, int along);
 /// Torus around the z axis: tube radius r at distance R from the axis.
 Shape torus(double R, double r, int around, int tube);
+/// Torus whose tube radius at angle u around the axis is r * tube_scale(u): with a
+/// non-constant scale it has no continuous rotational symmetry.
+Shape deformed_torus(double R, double r, int around, int tube, const std::function<double(double)>& tube_scale);
 /// Apply x -> A x + t to every vertex; flips the faces' orientation when det(A) < 0 so the
 /// normals stay outward.
 Shape transformed(const Shape& s, const Eigen::Matrix3d& A, const Eigen::Vector3d& t);

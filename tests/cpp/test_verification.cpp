@@ -22,14 +22,7 @@ struct Scene {
 
 // A bumpy torus (no continuous symmetry) and a re-tessellated copy under `planted`.
 Shape bumpy_torus(int around, int tube) {
-    Shape s = torus(2.0, 0.7, around, tube);
-    for (Eigen::Index i = 0; i < s.V.rows(); ++i) {
-        Eigen::Vector3d p = s.V.row(i);
-        double u = std::atan2(p.y(), p.x());
-        Eigen::Vector3d c(2.0 * std::cos(u), 2.0 * std::sin(u), 0.0);
-        s.V.row(i) = (c + (p - c) * (1.0 + 0.3 * std::cos(u) + 0.1 * std::sin(3 * u))).transpose();
-    }
-    return s;
+    return deformed_torus(2.0, 0.7, around, tube, [](double u) { return 1.0 + 0.3 * std::cos(u) + 0.1 * std::sin(3 * u); });
 }
 
 void build(Scene& scene) {
