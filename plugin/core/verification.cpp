@@ -230,7 +230,6 @@ std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const
     // ICP (Rusinkiewicz and Levoy 2001): closest points of the transformed patch, then
     // the best transformation of the group for those correspondences, iterated until the
     // patch stops moving.  A stride keeps each iteration to a few thousand points.
-    double last_rms = 0;     // RMS gap of the last refit's correspondences
     bool hopeless = false;   // set when a refit shows the candidate cannot pass
     auto refit_with = [&](const std::vector<int>& patch, Transformation& t, int iterations) {
         if (!options.refine_with_icp || patch.size() < kMinIcpVertices) return false;
@@ -266,10 +265,9 @@ std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const
         if (changed) {
             double sum = 0;
             for (size_t i = 0; i < src.size(); ++i) sum += (t.apply(src[i]) - dst[i]).squaredNorm();
-            last_rms = std::sqrt(sum / double(src.size()));
             // Far above the final bound even after refitting: two patches merely touching;
             // stop growing rather than cover the model with them.
-            if (last_rms > 2 * kMaxRmsToTolerance * options.tolerance) hopeless = true;
+            if (std::sqrt(sum / double(src.size())) > 2 * kMaxRmsToTolerance * options.tolerance) hopeless = true;
         }
         return changed;
     };
@@ -306,11 +304,13 @@ std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const
     refit_with(result.source_vertices, T, kIcpIterations);
     double displacement2 = 0, deviation2 = 0;
     std::vector<int> kept;
+    std::vector<int> landing_faces;  // where T(v) lands: the target side grows from there
     for (int v : result.source_vertices) {
         Eigen::Vector3d p = position(mesh.vert[v]);
         ClosestPoint cp = surface.closest(T.apply(p), 2 * options.tolerance);
         if (!cp.found) { in_source[v] = 0; continue; }  // drifted away under the refined T
         kept.push_back(v);
+        landing_faces.push_back(cp.face);
         result.source_deviation.push_back(cp.signed_distance);
         deviation2 += cp.distance * cp.distance;
         displacement2 += (T.apply(p) - p).squaredNorm();
@@ -338,10 +338,8 @@ std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const
     // T⁻¹ divides distances by the scale, so the same tolerance shrinks with it.
     RegionGrower target(mesh, adjacency, surface, options.tolerance / T.scale);
     std::vector<char> in_target(nv, 0);
-    for (int v : result.source_vertices) {
-        ClosestPoint cp = surface.closest(T.apply(position(mesh.vert[v])), 2 * options.tolerance);
-        if (!cp.found) continue;
-        const Face& face = mesh.face[cp.face];
+    for (int f : landing_faces) {
+        const Face& face = mesh.face[f];
         for (int k = 0; k < 3; ++k) {
             int w = int(vcg::tri::Index(mesh, face.cV(k)));
             if (in_target[w]) continue;

@@ -18,6 +18,16 @@ void build(const Shape& shape, Mesh& mesh) {
     build_mesh(shape.V, shape.F, mesh, vertex_of_input);
 }
 
+// A mesh of the single triangle (a, b, c).
+void build_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, Mesh& mesh) {
+    Shape tri;
+    tri.V.resize(3, 3);
+    tri.V << a.transpose(), b.transpose(), c.transpose();
+    tri.F.resize(1, 3);
+    tri.F << 0, 1, 2;
+    build(tri, mesh);
+}
+
 Eigen::Vector3d corner(const Mesh& mesh, int face, int k) {
     const auto& p = mesh.face[size_t(face)].cP(k);
     return {p[0], p[1], p[2]};
@@ -71,13 +81,8 @@ TEST(Sampling, PointsAreUniformInsideATriangle) {
     // One triangle: by area, a quarter of the samples fall where the first
     // barycentric weight exceeds 1/2 (the corner triangle with half the edges),
     // and the mean of the samples is the centroid.
-    Shape tri;
-    tri.V.resize(3, 3);
-    tri.V << 0, 0, 0, 3, 0, 0, 1, 2, 0;
-    tri.F.resize(1, 3);
-    tri.F << 0, 1, 2;
     Mesh mesh;
-    build(tri, mesh);
+    build_triangle(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(1, 2, 0), mesh);
     const int n = 40000;
     std::mt19937_64 rng(13);
     int near_first = 0;
@@ -116,13 +121,8 @@ TEST(Sampling, SameSeedSameSamples) {
 TEST(Sampling, SameSamplesWithEveryStandardLibrary) {
     // std::mt19937_64 is fully specified by the standard and the conversion to
     // [0, 1) is our own, so these values hold with libstdc++, libc++ and MSVC alike.
-    Shape tri;
-    tri.V.resize(3, 3);
-    tri.V << 0, 0, 0, 1, 0, 0, 0, 1, 0;
-    tri.F.resize(1, 3);
-    tri.F << 0, 1, 2;
     Mesh mesh;
-    build(tri, mesh);
+    build_triangle(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), mesh);
     std::mt19937_64 rng(42);
     auto s = uniform_area_sampling(mesh, 1, rng);
     // The three draws of this sample (one face pick, two for the point).
