@@ -1,5 +1,6 @@
 #include "detection.h"
 
+#include "curvature_agreement.h"
 #include "kd_tree.h"
 #include "mean_shift.h"
 #include "pairing.h"
@@ -7,11 +8,14 @@
 #include "signatures.h"
 #include "surface_query.h"
 #include "umbilic_pruning.h"
-#include "verification.h"
+
+#include <vcg/complex/append.h>
+#include <vcg/complex/algorithms/update/topology.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -28,20 +32,125 @@ void require(bool ok, const char* name, T value, const char* range) {
     throw InputError(s.str());
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The input as the stages see it.  When the input is noisy, signatures and region growing
+// work on a presmoothed copy with the same vertices and faces (denoising.h), and the
+// deviation from perfect symmetry is measured on the input itself.
+struct Model {
+    Mesh input;
+    std::unique_ptr<Mesh> smoothed;
+    std::vector<int> vertex_of_input;  // row in V of every core vertex
+    double diagonal = 0, total_area = 0;
+    double radius = 0;  // the curvature ball's radius r (§2), absolute units
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    const Mesh& analysed() const { return smoothed ? *smoothed : input; }
+};
+
+void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,
+                   Model& model, DetectionResult& result) {
+    build_mesh(V, F, model.input, model.vertex_of_input);
+    model.diagonal = model.input.bbox.Diag();
+    model.center = Eigen::Vector3d(model.input.bbox.Center()[0], model.input.bbox.Center()[1], model.input.bbox.Center()[2]);
+    model.total_area = surface_area(model.input);
+    const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.input);
+    // The ball must hold a few edges, or on a coarse mesh it sees one facet's flatness
+    // or a single edge's bend, and a copy tessellated otherwise gets other curvatures.
+    model.radius = std::max(options.curvature_radius * model.diagonal,
+                            options.min_radius_in_edges * median_edge_length(neighbourhoods));
+    result.curvature_radius = model.radius / model.diagonal;
+    const NoiseEstimate noise = estimate_noise(neighbourhoods, options.denoising);
+    result.noise = noise.noise / model.diagonal;
+    // Never blur beyond the curvature ball: what it would remove is the shape the
+    // signatures are meant to describe.
+    const double radius = std::min(smoothing_radius(noise, options.denoising), model.radius);
+    if (radius > 0) {
+        model.smoothed = std::make_unique<Mesh>();
+        vcg::tri::Append<Mesh, Mesh>::MeshCopy(*model.smoothed, model.input);
+        vcg::tri::UpdateTopology<Mesh>::FaceFace(*model.smoothed);
+        vcg::tri::UpdateTopology<Mesh>::VertexFace(*model.smoothed);
+        smooth_positions(*model.smoothed, radius, options.denoising);
+        result.smoothing_radius = radius / model.diagonal;
+    }
+}
+
+// §2.2: the pairs of samples with similar signatures, and their points in Γ.
+struct Votes {
+    std::vector<SurfaceSignature> P;   // pruned samples with signatures
+    std::vector<SignaturePair> pairs;
+    std::vector<Transformation> points;
+    std::vector<int> pair_of_point;
+};
+
+Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64& rng, DetectionResult& result) {
+    const double radius = model.radius;
+    Votes votes;
+    auto start = Clock::now();
+    std::vector<SurfaceSample> samples = uniform_area_sampling(model.analysed(), options.sample_count, rng);
+    votes.P = prune_umbilics(compute_signatures(model.analysed(), samples, radius), options.umbilic_ratio, radius);
+    result.samples = int(samples.size());
+    result.pruned_samples = int(votes.P.size());
+    result.seconds_signatures = seconds_since(start);
+
+    // Pairs closer than the curvature ball share their neighbourhood and only vote for
+    // the identity.
+    start = Clock::now();
+    votes.pairs = pair_in_signature_space(votes.P, options.group, radius, options.signature_tolerance,
+                                          options.pair_sample_count, 2 * radius, rng);
+    for (size_t k = 0; k < votes.pairs.size(); ++k)
+        for (const Transformation& t :
+             transformations_from_frames(votes.P[votes.pairs[k].first], votes.P[votes.pairs[k].second], options.group)) {
+            votes.points.push_back(t);
+            votes.pair_of_point.push_back(int(k));
+        }
+    result.pairs = int(votes.pairs.size());
+    result.transformation_points = int(votes.points.size());
+    result.seconds_pairing = seconds_since(start);
+    return votes;
 }
 
 // A cluster of §3.1 turned into a candidate symmetry: its mode and the pairs voting for it.
 struct Candidate {
     Transformation transform;
     int height = 0;
-    std::vector<int> votes;  // indices into the transformation points
+    std::vector<int> votes;  // indices into Votes::points
 };
+
+// §3.1: mean shift, separately for proper and improper transformations (they are different
+// sheets of Γ; no path of small steps joins them).  Most votes first.
+std::vector<Candidate> cluster(const Votes& votes, const std::vector<char>& active, const TransformationSpace& space,
+                               const DetectionOptions& options, int max_modes) {
+    std::vector<Candidate> candidates;
+    for (bool reflection : {false, true}) {
+        std::vector<int> index;
+        for (size_t i = 0; i < votes.points.size(); ++i)
+            if (active[i] && votes.points[i].reflection == reflection) index.push_back(int(i));
+        if (index.empty()) continue;
+        KdTree::Points coordinates(index.size(), TransformationSpace::kDimension);
+        for (size_t i = 0; i < index.size(); ++i) coordinates.row(long(i)) = space.coordinates(votes.points[size_t(index[i])]).transpose();
+        const KdTree tree(std::move(coordinates));
+        MeanShiftOptions ms;
+        ms.bandwidth = options.cluster_bandwidth;
+        ms.min_support = options.min_cluster_support;
+        ms.max_modes = max_modes;
+        ms.project = [&space](Eigen::Ref<Eigen::VectorXd> x) { space.project(x); };
+        for (const Cluster& c : mean_shift(tree, ms)) {
+            Candidate candidate;
+            candidate.transform = space.transformation(c.mode, reflection);
+            candidate.height = c.height;
+            for (int m : c.members) candidate.votes.push_back(index[size_t(m)]);
+            candidates.push_back(std::move(candidate));
+        }
+    }
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.height > b.height; });
+    return candidates;
+}
 
 // The vertex of the sample's face nearest to the sample: where region growing starts.
 int seed_vertex(const Mesh& mesh, const SurfaceSignature& s) {
-    const Face& f = mesh.face[s.face];
+    const Face& f = mesh.face[size_t(s.face)];
     int best = 0;
     double best_d = INFINITY;
     for (int k = 0; k < 3; ++k) {
@@ -49,6 +158,352 @@ int seed_vertex(const Mesh& mesh, const SurfaceSignature& s) {
         if (d < best_d) { best_d = d; best = k; }
     }
     return int(vcg::tri::Index(mesh, f.cV(best)));
+}
+
+// What verification found: discrete symmetries and continuous families.
+struct Found {
+    VerifiedSymmetry symmetry;
+    int support = 0;
+    bool slippable_source = false;  // its source patch is part of a continuous family
+    std::vector<char> source_flags, target_flags;  // its patches, per vertex
+};
+struct Findings {
+    std::vector<Found> discrete;
+    std::vector<ContinuousFamily> families;
+    std::vector<VerifiedSymmetry> family_members;  // the member each family was recognised from
+    std::vector<int> family_support;               // votes of its members
+};
+
+// The share of a candidate's votes whose two samples both lie in `first` and `second`
+// (flags per vertex): a candidate about a patch pair already explained.
+double share_of_votes_between(const Candidate& candidate, const std::vector<std::pair<int, int>>& endpoints,
+                              const std::vector<char>& first, const std::vector<char>& second) {
+    int inside = 0;
+    for (int v : candidate.votes) {
+        const auto& e = endpoints[size_t(v)];
+        inside += first[size_t(e.first)] && second[size_t(e.second)];
+    }
+    return candidate.votes.empty() ? 0 : double(inside) / double(candidate.votes.size());
+}
+
+std::vector<char> flags(int count, const std::vector<int>& vertices) {
+    std::vector<char> f(size_t(count), 0);
+    for (int v : vertices) f[size_t(v)] = 1;
+    return f;
+}
+
+double overlap(const std::vector<int>& a, const std::vector<int>& b) {  // |a ∩ b| / |a|, both sorted
+    std::vector<int> common;
+    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
+    return a.empty() ? 0 : double(common.size()) / double(a.size());
+}
+
+// §4 with the continuous families: candidates are verified most votes first.  A candidate
+// whose votes lie on a family already found, and whose transformation is a member of that
+// family, is skipped unverified (it does not count against the clusters verified); so is
+// one whose votes join the patch pair of a discrete symmetry whose source is continuous (the
+// same relation, composed with a family member).  A verified candidate whose patch pair is
+// slippable is a member of a continuous family: the family is recorded once, and the
+// candidate is reported beside it only if it is not one of its members.
+class Verifier {
+public:
+    Verifier(const Model& model, const Votes& votes, const TransformationSpace& space, const DetectionOptions& options)
+        : model_(model), votes_(votes), space_(space), options_(options),
+          mesh_(mesh_neighbourhoods(model.analysed())), surface_(model.analysed()), curvature_(model.analysed()),
+          roughness_(mesh_, options.denoising) {
+        const double radius = model.radius;
+        vo_ = options.verification;
+        vo_.tolerance = options.verification_tolerance * model.diagonal;
+        vo_.min_patch_area = options.min_patch_area * model.total_area;
+        vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
+        vo_.refine_with_icp = options.refine_with_icp;
+        vo_.group = options.group;
+        for (const SignaturePair& pair : votes.pairs)
+            pair_endpoints_.push_back({seed_vertex(model.analysed(), votes.P[size_t(pair.first)]),
+                                       seed_vertex(model.analysed(), votes.P[size_t(pair.second)])});
+        for (int pair : votes.pair_of_point) endpoints_.push_back(pair_endpoints_[size_t(pair)]);
+        // A cluster's mode is only as exact as the bandwidth: so is its test for membership.
+        mode_slack_distance_ = std::max(vo_.tolerance, options.cluster_bandwidth * model.diagonal);
+        mode_slack_degrees_ = std::max(options.continuous.axis_agreement_degrees,
+                                       TransformationSpace::rotation_degrees(options.cluster_bandwidth));
+    }
+
+    /// Whether the search is over: enough clusters verified, or every result slot filled.
+    bool done(size_t max_verified) const {
+        return verified_ >= max_verified || int(findings_.discrete.size()) >= options_.max_symmetries;
+    }
+    size_t verified() const { return verified_; }
+
+    /// Verifies the candidate unless it is explained already; returns whether a new
+    /// continuous family was found.
+    bool consider(const Candidate& candidate) {
+        if (explained(candidate)) return false;
+        if (std::any_of(tried_.begin(), tried_.end(),
+                        [&](const Transformation& t) { return same_relation(candidate.transform, t); }))
+            return false;
+        tried_.push_back(candidate.transform);
+        ++verified_;
+        const size_t families = findings_.families.size();
+        if (auto verified = verify(candidate)) classify(std::move(*verified), candidate.height);
+        return findings_.families.size() > families;
+    }
+
+    /// The votes of the newest family's members: pairs on its patch whose transformation
+    /// is a member, within what a single pair's frames can tell (as for a cluster's mode).
+    std::vector<int> newest_family_votes() const {
+        std::vector<int> out;
+        if (findings_.families.empty()) return out;
+        const ContinuousFamily& family = findings_.families.back();
+        const std::vector<char>& on = family_flags_.back();
+        for (size_t v = 0; v < votes_.points.size(); ++v)
+            if (on[size_t(endpoints_[v].first)] && on[size_t(endpoints_[v].second)] &&
+                is_member(family, votes_.points[v], mode_slack_distance_, mode_slack_degrees_))
+                out.push_back(int(v));
+        return out;
+    }
+
+    Findings take_findings(DetectionResult& result) {
+        result.verified_candidates = int(verified_);
+        result.skipped_members = skipped_members_;
+        return std::move(findings_);
+    }
+
+    const MeshNeighbourhoods& mesh() const { return mesh_; }
+    double tolerance() const { return vo_.tolerance; }
+
+private:
+    // The same relation is found as T and as T⁻¹ (pairs are ordered), and nearby modes
+    // may refine to the same T: one verification and one report per relation.
+    bool same_relation(const Transformation& a, const Transformation& b) const {
+        return space_.distance(a, b) < options_.cluster_bandwidth ||
+               space_.distance(a, b.inverse()) < options_.cluster_bandwidth;
+    }
+
+    // Whether what the candidate's votes say is already known (see the class comment);
+    // a relation already reported is credited with the votes of this cluster too.
+    bool explained(const Candidate& candidate) {
+        for (size_t k = 0; k < findings_.families.size(); ++k)
+            if (is_member(findings_.families[k], candidate.transform, mode_slack_distance_, mode_slack_degrees_) &&
+                share_of_votes_between(candidate, endpoints_, family_flags_[k], family_flags_[k]) >= 0.5) {
+                findings_.family_support[k] += candidate.height;
+                ++skipped_members_;
+                return true;
+            }
+        for (auto& f : findings_.discrete) {
+            const bool forward = share_of_votes_between(candidate, endpoints_, f.source_flags, f.target_flags) >= 0.5;
+            const bool backward = share_of_votes_between(candidate, endpoints_, f.target_flags, f.source_flags) >= 0.5;
+            if (!forward && !backward) continue;
+            // A relation between continuous patches (a cylinder onto another) holds for a
+            // whole continuum of motions: any candidate joining its patches is the same.
+            if (f.slippable_source || (forward && moves_alike(candidate.transform, f.symmetry)) ||
+                (backward && moves_alike(candidate.transform.inverse(), f.symmetry))) {
+                f.support += candidate.height;
+                ++skipped_members_;
+                return true;
+            }
+        }
+        return false;
+    }
+
+    // Whether T moves the symmetry's source patch where the symmetry does, within what a
+    // cluster's mode can tell (a few vertices spread over the patch are compared).
+    bool moves_alike(const Transformation& T, const VerifiedSymmetry& s) const {
+        const size_t stride = std::max<size_t>(1, s.source_vertices.size() / 32);
+        for (size_t i = 0; i < s.source_vertices.size(); i += stride) {
+            const Eigen::Vector3d& p = mesh_.positions[size_t(s.source_vertices[i])];
+            if ((T.apply(p) - s.transform.apply(p)).norm() > mode_slack_distance_) return false;
+        }
+        return true;
+    }
+
+    std::optional<VerifiedSymmetry> verify(const Candidate& candidate) const {
+        std::vector<Seed> seeds;
+        for (int v : candidate.votes)
+            seeds.push_back({endpoints_[size_t(v)].first, space_.distance(votes_.points[size_t(v)], candidate.transform)});
+        return verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_);
+    }
+
+    void classify(VerifiedSymmetry s, int support) {
+        const CurvatureAgreement agreement =
+            curvature_agreement(mesh_, surface_, curvature_, roughness_, votes_.P, s.source_vertices, s.transform, model_.radius,
+                                options_.signature_tolerance, vo_.tolerance, options_.agreement);
+        if (!agreement.passes(options_.agreement)) return;
+        std::vector<int> both;
+        std::set_union(s.source_vertices.begin(), s.source_vertices.end(), s.target_vertices.begin(),
+                       s.target_vertices.end(), std::back_inserter(both));
+        ContinuousFamily family = slippable_family(mesh_, both, vo_.tolerance, options_.continuous);
+        if (family.kind != ContinuousKind::Discrete) {
+            family.vertices = grow_family_patch(mesh_, family, both, vo_.tolerance, options_.continuous);
+            const bool member = is_member(family, s.transform, vo_.tolerance, options_.continuous.axis_agreement_degrees);
+            record_family(std::move(family), s, support);
+            if (member) return;
+        }
+        for (auto& f : findings_.discrete)
+            if (same_relation(s.transform, f.symmetry.transform)) { f.support += support; return; }
+        Found found{std::move(s), support, false, {}, {}};
+        found.source_flags = flags(mesh_.vertex_count(), found.symmetry.source_vertices);
+        found.target_flags = flags(mesh_.vertex_count(), found.symmetry.target_vertices);
+        found.slippable_source =
+            slippable_family(mesh_, found.symmetry.source_vertices, vo_.tolerance, options_.continuous).kind !=
+            ContinuousKind::Discrete;
+        if (found.slippable_source && redundant_with_reported(found.symmetry)) return;
+        findings_.discrete.push_back(std::move(found));
+    }
+
+    // A family found twice (two members of one surface of revolution) is one family.
+    void record_family(ContinuousFamily family, const VerifiedSymmetry& member, int support) {
+        for (size_t k = 0; k < findings_.families.size(); ++k)
+            if (same_family(findings_.families[k], family, vo_.tolerance, options_.continuous)) {
+                auto& known = findings_.families[k].vertices;
+                std::vector<int> merged;
+                std::set_union(known.begin(), known.end(), family.vertices.begin(), family.vertices.end(),
+                               std::back_inserter(merged));
+                known.swap(merged);
+                family_flags_[k] = flags(mesh_.vertex_count(), known);
+                findings_.family_support[k] += support;
+                return;
+            }
+        family_flags_.push_back(flags(mesh_.vertex_count(), family.vertices));
+        findings_.families.push_back(std::move(family));
+        findings_.family_members.push_back(member);
+        findings_.family_support.push_back(support);
+    }
+
+    // A discrete relation between continuous patches (one cylinder onto another) holds
+    // for a whole continuum of transformations: the patch pair is reported once.
+    bool redundant_with_reported(const VerifiedSymmetry& s) const {
+        for (const auto& f : findings_.discrete) {
+            const auto& a = f.symmetry;
+            if ((overlap(s.source_vertices, a.source_vertices) >= 0.5 && overlap(s.target_vertices, a.target_vertices) >= 0.5) ||
+                (overlap(s.source_vertices, a.target_vertices) >= 0.5 && overlap(s.target_vertices, a.source_vertices) >= 0.5))
+                return true;
+        }
+        return false;
+    }
+
+    const Model& model_;
+    const Votes& votes_;
+    const TransformationSpace& space_;
+    const DetectionOptions& options_;
+    const MeshNeighbourhoods mesh_;
+    const SurfaceQuery surface_;
+    const CurvatureEstimator curvature_;
+    Roughness roughness_;
+    VerificationOptions vo_;
+    double mode_slack_distance_ = 0, mode_slack_degrees_ = 0;
+    std::vector<std::pair<int, int>> pair_endpoints_, endpoints_;  // seed vertices of each pair, of each vote
+    Findings findings_;
+    std::vector<std::vector<char>> family_flags_;
+    std::vector<Transformation> tried_;
+    size_t verified_ = 0;
+    int skipped_members_ = 0;
+};
+
+// §3.1 and §4 together.  At most max_verified clusters are verified; each sheet of Γ
+// offers up to four times as many modes (merges and repeats of T⁻¹ use up some).  When a
+// continuous family is found, its members' votes leave Γ and the clusters are found again:
+// a family's votes lie all along a ridge of Γ, whose modes would otherwise crowd out the
+// clusters of everything else (the paper removes the points of a verified cluster likewise).
+Findings search(const Model& model, const Votes& votes, const TransformationSpace& space,
+                const DetectionOptions& options, const Progress& report, DetectionResult& result) {
+    const size_t max_verified = size_t(std::max(60, 3 * options.max_symmetries));
+    const int max_modes = int(4 * max_verified);
+    std::vector<char> active(votes.points.size(), 1);
+    auto start = Clock::now();
+    std::vector<Candidate> candidates = cluster(votes, active, space, options, max_modes);
+    result.clusters = int(candidates.size());
+    result.seconds_clustering = seconds_since(start);
+
+    report(60, "Verification by region growing");
+    start = Clock::now();
+    Verifier verifier(model, votes, space, options);
+    double reclustering = 0;
+    for (size_t i = 0; i < candidates.size() && !verifier.done(max_verified); ++i) {
+        if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
+        if (!verifier.consider(candidates[i])) continue;
+        const std::vector<int> members = verifier.newest_family_votes();
+        if (members.empty()) continue;
+        for (int v : members) active[size_t(v)] = 0;
+        auto again = Clock::now();
+        candidates = cluster(votes, active, space, options, max_modes);
+        const double seconds = seconds_since(again);
+        result.seconds_clustering += seconds;
+        reclustering += seconds;
+        i = size_t(-1);  // from the top: what was verified already is skipped as tried
+    }
+    result.seconds_verification = seconds_since(start) - reclustering;
+    return verifier.take_findings(result);
+}
+
+// On a presmoothed model, the deviation from perfect symmetry is measured again on the
+// input: T(v) against the input surface, as Figure 1 shows it.
+void measure_on_input(const Model& model, double tolerance, VerifiedSymmetry& s) {
+    if (!model.smoothed) return;
+    static_cast<void>(tolerance);
+    const SurfaceQuery input(model.input);
+    const double reach = 4 * tolerance;  // beyond it a vertex counts as deviating by the reach
+    auto measure = [&](const std::vector<int>& vertices, const Transformation& T, double scale, std::vector<double>& out) {
+        out.clear();
+        for (int v : vertices) {
+            const auto& p = model.input.vert[size_t(v)].cP();
+            ClosestPoint cp = input.closest(T.apply(Eigen::Vector3d(p[0], p[1], p[2])), reach);
+            out.push_back(scale * (cp.found ? cp.signed_distance : reach));
+        }
+    };
+    measure(s.source_vertices, s.transform, 1.0, s.source_deviation);
+    measure(s.target_vertices, s.transform.inverse(), s.transform.scale, s.target_deviation);
+    double sum = 0;
+    s.max_error = 0;
+    for (double d : s.source_deviation) { sum += d * d; s.max_error = std::max(s.max_error, std::abs(d)); }
+    s.rms_error = s.source_deviation.empty() ? 0 : std::sqrt(sum / double(s.source_deviation.size()));
+}
+
+// A continuous family reported as a symmetry: its patch on both sides, the member it was
+// recognised from as its transformation, and that member's deviation where it holds.
+VerifiedSymmetry family_as_symmetry(const ContinuousFamily& family, const VerifiedSymmetry& member,
+                                    const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, double tolerance) {
+    VerifiedSymmetry s;
+    s.transform = member.transform;
+    s.source_vertices = family.vertices;
+    s.target_vertices = family.vertices;
+    double sum = 0;
+    for (int v : family.vertices) {
+        ClosestPoint cp = surface.closest(member.transform.apply(mesh.positions[size_t(v)]), tolerance);
+        const double d = cp.found ? cp.signed_distance : 0;  // a partial arc the member moves off itself
+        s.source_deviation.push_back(d);
+        sum += d * d;
+        s.max_error = std::max(s.max_error, std::abs(d));
+    }
+    s.target_deviation = s.source_deviation;
+    s.rms_error = family.vertices.empty() ? 0 : std::sqrt(sum / double(family.vertices.size()));
+    std::vector<char> member_flags = flags(mesh.vertex_count(), family.vertices);
+    s.source_area = patch_area(mesh, family.vertices, member_flags);
+    return s;
+}
+
+// One reported symmetry in the input's numbering, writing its per-vertex outputs where no
+// more significant symmetry has.
+DetectedSymmetry report_symmetry(const VerifiedSymmetry& s, const Model& model, int index, DetectionResult& result) {
+    DetectedSymmetry d;
+    d.transform = s.transform;
+    d.rms_error = s.rms_error / model.diagonal;
+    d.max_error = s.max_error / model.diagonal;
+    d.systematic_error = s.systematic_error / model.diagonal;
+    d.source_area = std::min(1.0, s.source_area / model.total_area);
+    auto write = [&](const std::vector<int>& vertices, const std::vector<double>& deviation, std::vector<int>& out) {
+        for (size_t i = 0; i < vertices.size(); ++i) {
+            int row = model.vertex_of_input[size_t(vertices[i])];
+            out.push_back(row);
+            if (result.vertex_symmetry_id[size_t(row)] < 0) {
+                result.vertex_symmetry_id[size_t(row)] = index;
+                result.vertex_deviation[size_t(row)] = deviation[i] / model.diagonal;
+            }
+        }
+        std::sort(out.begin(), out.end());
+    };
+    write(s.source_vertices, s.source_deviation, d.source_vertices);
+    write(s.target_vertices, s.target_deviation, d.target_vertices);
+    return d;
 }
 
 }  // namespace
@@ -85,144 +540,57 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
         if (progress) progress(percent, stage);
     };
     DetectionResult result;
-
-    Mesh mesh;
-    std::vector<int> vertex_of_input;
-    build_mesh(V, F, mesh, vertex_of_input);
-    const double diagonal = mesh.bbox.Diag();
-    const Eigen::Vector3d center(mesh.bbox.Center()[0], mesh.bbox.Center()[1], mesh.bbox.Center()[2]);
-    const double total_area = surface_area(mesh);
-    const double radius = options.curvature_radius * diagonal;
-    const TransformationGroup group = options.group;
     std::mt19937_64 rng(options.random_seed);
 
-    // §2, §2.1: samples, signatures, pruning.
-    auto start = std::chrono::steady_clock::now();
+    // §2, §2.1, §2.2: samples, signatures, pruning, pairs and their votes in Γ.
     report(0, "Sampling and curvature signatures");
-    std::vector<SurfaceSample> samples = uniform_area_sampling(mesh, options.sample_count, rng);
-    std::vector<SurfaceSignature> P = prune_umbilics(compute_signatures(mesh, samples, radius),
-                                                     options.umbilic_ratio, radius);
-    result.samples = int(samples.size());
-    result.pruned_samples = int(P.size());
-    result.seconds_signatures = seconds_since(start);
+    Model model;
+    prepare_model(V, F, options, model, result);
+    const Votes votes = vote(model, options, rng, result);
+    const TransformationSpace space(model.center, model.diagonal);
 
-    // §2.2: pairs in signature space, one or more points in Γ per pair.  Pairs closer
-    // than the curvature ball share their neighbourhood and only vote for the identity.
-    start = std::chrono::steady_clock::now();
-    report(25, "Pairing in signature space");
-    std::vector<SignaturePair> pairs = pair_in_signature_space(P, group, radius, options.signature_tolerance,
-                                                               options.pair_sample_count, 2 * radius, rng);
-    const TransformationSpace space(center, diagonal);
-    std::vector<Transformation> points;
-    std::vector<int> pair_of_point;
-    for (size_t k = 0; k < pairs.size(); ++k)
-        for (const Transformation& t : transformations_from_frames(P[pairs[k].first], P[pairs[k].second], group)) {
-            points.push_back(t);
-            pair_of_point.push_back(int(k));
-        }
-    result.pairs = int(pairs.size());
-    result.transformation_points = int(points.size());
-    result.seconds_pairing = seconds_since(start);
-
-    // §3.1: mean shift, separately for proper and improper transformations (they are
-    // different sheets of Γ; no path of small steps joins them).
-    start = std::chrono::steady_clock::now();
+    // §3.1 and §4: clusters verified most votes first, with the continuous families beside.
     report(45, "Mean-shift clustering in transformation space");
-    std::vector<Candidate> candidates;
-    // At most this many clusters are verified (§4); each sheet of Γ may offer them all.
-    const size_t max_tries = size_t(std::max(60, 3 * options.max_symmetries));
-    for (bool reflection : {false, true}) {
-        std::vector<int> index;
-        for (size_t i = 0; i < points.size(); ++i)
-            if (points[i].reflection == reflection) index.push_back(int(i));
-        if (index.empty()) continue;
-        KdTree::Points coordinates(index.size(), TransformationSpace::kDimension);
-        for (size_t i = 0; i < index.size(); ++i) coordinates.row(i) = space.coordinates(points[index[i]]).transpose();
-        const KdTree tree(std::move(coordinates));
-        MeanShiftOptions ms;
-        ms.bandwidth = options.cluster_bandwidth;
-        ms.min_support = options.min_cluster_support;
-        ms.max_modes = int(4 * max_tries);  // merges and repeats of T⁻¹ use up some
-        ms.project = [&space](Eigen::Ref<Eigen::VectorXd> x) { space.project(x); };
-        for (const Cluster& c : mean_shift(tree, ms)) {
-            Candidate candidate;
-            candidate.transform = space.transformation(c.mode, reflection);
-            candidate.height = c.height;
-            for (int m : c.members) candidate.votes.push_back(index[m]);
-            candidates.push_back(std::move(candidate));
-        }
+    Findings findings = search(model, votes, space, options, report, result);
+    auto start = Clock::now();
+    const SurfaceQuery analysed_surface(model.analysed());
+    const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.analysed());
+    const double tolerance = options.verification_tolerance * model.diagonal;
+    std::vector<VerifiedSymmetry> reported;
+    std::vector<int> supports;
+    std::vector<const ContinuousFamily*> family_of;
+    for (auto& f : findings.discrete) {
+        measure_on_input(model, tolerance, f.symmetry);
+        reported.push_back(std::move(f.symmetry));
+        supports.push_back(f.support);
+        family_of.push_back(nullptr);
     }
-    std::stable_sort(candidates.begin(), candidates.end(),
-                     [](const Candidate& a, const Candidate& b) { return a.height > b.height; });
-    result.clusters = int(candidates.size());
-    result.seconds_clustering = seconds_since(start);
-
-    // §4: verification by region growing, most significant cluster first.
-    start = std::chrono::steady_clock::now();
-    report(60, "Verification by region growing");
-    const VertexNeighbours adjacency = vertex_neighbours(mesh);
-    const SurfaceQuery surface(mesh);
-    VerificationOptions vo;
-    vo.tolerance = options.verification_tolerance * diagonal;
-    vo.min_patch_area = options.min_patch_area * total_area;
-    vo.min_displacement = std::max(2 * radius, 4 * vo.tolerance);
-    vo.refine_with_icp = options.refine_with_icp;
-    vo.group = group;
-
-    struct Found {
-        VerifiedSymmetry symmetry;
-        int support;
-    };
-    std::vector<Found> found;
-    std::vector<Transformation> tried;
-    // The same relation is found as T and as T⁻¹ (pairs are ordered), and nearby modes
-    // may refine to the same T: one verification and one report per relation.
-    auto same_relation = [&](const Transformation& a, const Transformation& b) {
-        return space.distance(a, b) < options.cluster_bandwidth ||
-               space.distance(a, b.inverse()) < options.cluster_bandwidth;
-    };
-    // A relation already reported is credited with the votes of this cluster too.
-    auto merge_into_found = [&](const Transformation& t, int support) {
-        for (auto& f : found)
-            if (same_relation(t, f.symmetry.transform)) {
-                f.support += support;
-                return true;
-            }
-        return false;
-    };
-    for (size_t c = 0; c < candidates.size() && c < max_tries; ++c) {
-        report(60 + int(38 * c / std::min(candidates.size(), max_tries)), "Verification by region growing");
-        if (int(found.size()) >= options.max_symmetries) break;
-        const Candidate& candidate = candidates[c];
-        if (merge_into_found(candidate.transform, candidate.height)) continue;
-        if (std::any_of(tried.begin(), tried.end(),
-                        [&](const Transformation& t) { return same_relation(candidate.transform, t); }))
-            continue;
-        tried.push_back(candidate.transform);
-        std::vector<int> seeds;
-        for (int v : candidate.votes) seeds.push_back(seed_vertex(mesh, P[pairs[pair_of_point[v]].first]));
-        auto verified = verify_by_region_growing(mesh, adjacency, surface, candidate.transform, seeds, vo);
-        if (!verified) continue;
-        if (merge_into_found(verified->transform, candidate.height)) continue;
-        found.push_back({std::move(*verified), candidate.height});
+    for (size_t k = 0; k < findings.families.size() && int(k) < options.max_symmetries; ++k) {
+        reported.push_back(family_as_symmetry(findings.families[k], findings.family_members[k], neighbourhoods,
+                                              analysed_surface, tolerance));
+        supports.push_back(findings.family_support[k]);
+        family_of.push_back(&findings.families[k]);
     }
-    result.seconds_verification = seconds_since(start);
+    result.seconds_verification += seconds_since(start);
 
     // Most significant first: the larger the patch, the more of the model it explains.
-    std::stable_sort(found.begin(), found.end(), [](const Found& a, const Found& b) {
-        if (a.symmetry.source_area != b.symmetry.source_area) return a.symmetry.source_area > b.symmetry.source_area;
-        return a.support > b.support;
+    std::vector<size_t> order(reported.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        if (reported[a].source_area != reported[b].source_area) return reported[a].source_area > reported[b].source_area;
+        return supports[a] > supports[b];
     });
 
-    // §4.1: generators and compound transforms.
-    std::vector<Transformation> transforms;
-    for (const auto& f : found) transforms.push_back(f.symmetry.transform);
+    // §4.1: generators and compound transforms, over the discrete symmetries.
+    std::vector<Transformation> discrete;
+    for (size_t k : order)
+        if (!family_of[k]) discrete.push_back(reported[k].transform);
     SymmetryBasis basis;
     if (options.reduce_basis) {
-        basis = reduce_basis(transforms, space, options.basis_loop_length, options.basis_tolerance);
+        basis = reduce_basis(discrete, space, options.basis_loop_length, options.basis_tolerance);
     } else {
         // Without reduction every symmetry is its own generator: the trivial basis.
-        for (size_t k = 0; k < found.size(); ++k) {
+        for (size_t k = 0; k < discrete.size(); ++k) {
             basis.generators.push_back(int(k));
             basis.words.push_back({int(k) + 1});
         }
@@ -230,30 +598,25 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     result.generator_count = int(basis.generators.size());
 
     // Outputs in the input's vertex numbering.
-    result.vertex_deviation.assign(V.rows(), 0.0);
-    result.vertex_symmetry_id.assign(V.rows(), -1);
-    for (size_t k = 0; k < found.size(); ++k) {
-        const VerifiedSymmetry& s = found[k].symmetry;
-        DetectedSymmetry d;
-        d.transform = s.transform;
-        d.rms_error = s.rms_error / diagonal;
-        d.source_area = s.source_area / total_area;
-        d.support = found[k].support;
-        d.is_generator = std::find(basis.generators.begin(), basis.generators.end(), int(k)) != basis.generators.end();
-        d.word = basis.words[k];
-        auto write = [&](const std::vector<int>& vertices, const std::vector<double>& deviation, std::vector<int>& out) {
-            for (size_t i = 0; i < vertices.size(); ++i) {
-                int row = vertex_of_input[vertices[i]];
-                out.push_back(row);
-                if (result.vertex_symmetry_id[row] < 0) {
-                    result.vertex_symmetry_id[row] = int(k);
-                    result.vertex_deviation[row] = deviation[i] / diagonal;
-                }
-            }
-            std::sort(out.begin(), out.end());
-        };
-        write(s.source_vertices, s.source_deviation, d.source_vertices);
-        write(s.target_vertices, s.target_deviation, d.target_vertices);
+    result.vertex_deviation.assign(size_t(V.rows()), 0.0);
+    result.vertex_symmetry_id.assign(size_t(V.rows()), -1);
+    int discrete_index = 0;
+    for (size_t rank = 0; rank < order.size(); ++rank) {
+        const size_t k = order[rank];
+        DetectedSymmetry d = report_symmetry(reported[k], model, int(rank), result);
+        d.support = supports[k];
+        if (const ContinuousFamily* family = family_of[k]) {
+            d.continuous_kind = family->kind;
+            d.axis_point = family->point;
+            d.axis_direction = family->direction;
+            d.pitch = family->pitch / model.diagonal;
+            d.is_generator = false;
+        } else {
+            d.is_generator = std::find(basis.generators.begin(), basis.generators.end(), discrete_index) !=
+                             basis.generators.end();
+            d.word = basis.words[size_t(discrete_index)];
+            ++discrete_index;
+        }
         result.symmetries.push_back(std::move(d));
     }
     report(100, "Done");

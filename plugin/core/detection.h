@@ -4,8 +4,12 @@
 #pragma once
 
 #include "basis_reduction.h"
+#include "continuous_families.h"
+#include "curvature_agreement.h"
+#include "denoising.h"
 #include "mesh.h"
 #include "transformation_space.h"
+#include "verification.h"
 
 #include <Eigen/Core>
 #include <functional>
@@ -21,6 +25,8 @@ struct DetectionOptions {
     int sample_count = 10000;           ///< |initial samples| before pruning (§5)
     int pair_sample_count = 1500;       ///< |P'|, samples paired against all of P (§2.2)
     double curvature_radius = 0.01;     ///< r of the curvature ball (§2), fraction of the diagonal
+    /// r is at least this many median edge lengths, whatever curvature_radius says.
+    double min_radius_in_edges = 1.5;
     double umbilic_ratio = 0.75;        ///< γ of §2.1
     double signature_tolerance = 0.05;  ///< range-query radius in Ω (§2.2), dimensionless
     double cluster_bandwidth = 0.04;    ///< h of mean shift (§3.1), fraction of the diagonal in Γ's metric
@@ -34,19 +40,37 @@ struct DetectionOptions {
     double basis_tolerance = 0.02;      ///< δ of Algorithm 1, fraction of the diagonal in Γ's metric
     unsigned random_seed = 0;           ///< the whole run is a function of this seed
 
+    // Tunables of the stages, with their units in their own structs.
+    DenoisingOptions denoising;               ///< presmoothing of noisy meshes (§5 limitations)
+    /// Region growing, ICP and acceptance (§4).  Its tolerance, min_patch_area,
+    /// min_displacement, refine_with_icp and group are set from the fields above.
+    VerificationOptions verification;
+    CurvatureAgreementOptions agreement;      ///< second-order verification (beyond §4)
+    ContinuousFamilyOptions continuous;       ///< continuous families (beyond the paper)
+
     /// Throws InputError, with a sentence naming the parameter, for values outside their range.
     void validate() const;
 };
 
 struct DetectedSymmetry {
-    Transformation transform;             ///< maps the source patch onto the target patch
+    /// Maps the source patch onto the target patch.  For a continuous family: the member
+    /// that verification grew (one rotation of a surface of revolution, say).
+    Transformation transform;
+    ContinuousKind continuous_kind = ContinuousKind::Discrete;
+    /// Continuous families only (see ContinuousFamily): a point on the axis or plane, or
+    /// the centre; the unit axis, normal or direction (zero for a sphere); the pitch.
+    Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d axis_direction = Eigen::Vector3d::Zero();
+    double pitch = 0;                     ///< helical: advance per turn, fraction of the diagonal
     std::vector<int> source_vertices;     ///< rows of the input V, increasing
     std::vector<int> target_vertices;     ///< rows of the input V, increasing
-    double rms_error = 0;                 ///< fraction of the diagonal
+    double rms_error = 0;                 ///< RMS deviation from perfect symmetry, fraction of the diagonal
+    double max_error = 0;                 ///< largest deviation, fraction of the diagonal
+    double systematic_error = 0;          ///< RMS of the locally averaged deviation (see VerificationOptions)
     double source_area = 0;               ///< fraction of the total surface area
     int support = 0;                      ///< pairs in the cluster (§3.1)
-    bool is_generator = true;             ///< part of the reduced basis (§4.1)
-    Word word;                            ///< this transformation in the generators
+    bool is_generator = true;             ///< part of the reduced basis (§4.1); false for a family
+    Word word;                            ///< this transformation in the generators; empty for a family
 };
 
 struct DetectionResult {
@@ -59,6 +83,11 @@ struct DetectionResult {
     std::vector<int> vertex_symmetry_id;
     // Work done, for the log and for benchmarks.
     int samples = 0, pruned_samples = 0, pairs = 0, transformation_points = 0, clusters = 0;
+    int verified_candidates = 0;   ///< clusters that went through region growing
+    int skipped_members = 0;       ///< clusters skipped as members of a continuous family found before
+    double noise = 0;              ///< estimated vertex noise, fraction of the diagonal
+    double smoothing_radius = 0;   ///< presmoothing applied for signatures and growth, fraction of the diagonal
+    double curvature_radius = 0;   ///< the radius r used (see min_radius_in_edges), fraction of the diagonal
     double seconds_signatures = 0, seconds_pairing = 0, seconds_clustering = 0, seconds_verification = 0;
 };
 

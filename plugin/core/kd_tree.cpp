@@ -54,6 +54,29 @@ std::vector<int> KdTree::radius_search(const double* query, double radius, bool 
     return result;
 }
 
+namespace {
+// A nanoflann result set that only counts, and asks the search to stop at the cap.
+struct CappedCounter {
+    double radius2;
+    int cap;
+    int count = 0;
+    size_t size() const { return size_t(count); }
+    bool full() const { return true; }
+    double worstDist() const { return radius2; }
+    bool addPoint(double dist, size_t) {
+        if (dist < radius2) ++count;
+        return count < cap;
+    }
+};
+}  // namespace
+
+int KdTree::count_within(const double* query, double radius, int cap) const {
+    if (points_.rows() == 0 || cap <= 0) return 0;
+    CappedCounter counter{radius * radius, cap};
+    index_->tree.radiusSearchCustomCallback(query, counter, nanoflann::SearchParams(32, 0.0, false));
+    return std::min(counter.count, cap);
+}
+
 std::pair<int, double> KdTree::nearest(const double* query) const {
     if (points_.rows() == 0) return {-1, INFINITY};
     size_t index = 0;

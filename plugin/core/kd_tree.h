@@ -30,6 +30,10 @@ public:
     /// (unless `sorted` is false, for callers that filter and sort themselves).
     std::vector<int> radius_search(const double* query, double radius, bool sorted = true) const;
 
+    /// How many points lie within `radius` of `query`, counting no further than `cap`: the
+    /// search stops there, so a count in a dense region costs no more than in a sparse one.
+    int count_within(const double* query, double radius, int cap) const;
+
     /// Index of the nearest point and its Euclidean distance.
     std::pair<int, double> nearest(const double* query) const;
 

@@ -16,7 +16,7 @@ std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& opti
 
     // Density at every point, to start the ascent from the densest points first.
     std::vector<int> density(n);
-    for (int i = 0; i < n; ++i) density[i] = int(tree.radius_search(points.row(i).data(), h).size());
+    for (int i = 0; i < n; ++i) density[i] = tree.count_within(points.row(i).data(), h, options.density_cap);
     std::vector<int> order(n);
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return density[a] > density[b]; });
@@ -35,23 +35,33 @@ std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& opti
         if (covered[start]) continue;
         x = points.row(start).transpose();
 
+        // An ascent that comes within h/2 of a mode already found would end there (the
+        // merge below): it stops at once.  On a ridge of the density, as a continuous
+        // family makes, most ascents are such.
+        auto near_known_mode = [&](const Eigen::VectorXd& y) {
+            for (const auto& m : modes)
+                if ((m - y).squaredNorm() < 0.25 * h * h) return true;
+            return false;
+        };
         std::vector<int> neighbours;
-        for (int it = 0; it < options.max_iterations; ++it) {
-            neighbours = tree.radius_search(x.data(), h);
+        bool joined = false;
+        for (int it = 0; it < options.max_iterations && !joined; ++it) {
+            neighbours = tree.radius_search(x.data(), h, false);
             if (neighbours.empty()) break;
             mean.setZero();
             for (int j : neighbours) {
                 mean += points.row(j).transpose();
-                if ((points.row(j).transpose() - x).squaredNorm() < 0.25 * h * h) covered[j] = 1;
+                if ((points.row(j).transpose() - x).squaredNorm() < 0.25 * h * h) covered[size_t(j)] = 1;
             }
             mean /= double(neighbours.size());
             if (options.project) options.project(mean);
             double step = (mean - x).norm();
             x = mean;
             if (step < 1e-4 * h) break;
+            joined = near_known_mode(x);
         }
-        neighbours = tree.radius_search(x.data(), h);
-        int height = int(neighbours.size());
+        if (joined) continue;
+        int height = tree.count_within(x.data(), h, n);
         if (height < options.min_support) continue;
 
         // Merge with an existing mode closer than h/2, keeping the higher one.
@@ -65,22 +75,13 @@ std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& opti
         if (!merged) { modes.push_back(x); heights.push_back(height); }
     }
 
-    // Each point joins the nearest mode within h.
-    std::vector<std::vector<int>> members(modes.size());
-    std::vector<int> owner(n, -1);
-    std::vector<double> owner_distance(n, INFINITY);
-    for (size_t k = 0; k < modes.size(); ++k)
-        for (int j : tree.radius_search(modes[k].data(), h)) {
-            double d = (points.row(j).transpose() - modes[k]).norm();
-            if (d < owner_distance[j]) { owner_distance[j] = d; owner[j] = int(k); }
-        }
-    for (int j = 0; j < n; ++j)
-        if (owner[j] >= 0) members[owner[j]].push_back(j);
-
+    // The members of a cluster are the points within h of its mode, the ones its height
+    // counts.  (Assigning each point to its nearest mode only would leave a mode on a
+    // ridge of the density, as a continuous family makes, with no members at all.)
     for (size_t k = 0; k < modes.size(); ++k) {
         Cluster c;
         c.mode = modes[k];
-        c.members = std::move(members[k]);
+        c.members = tree.radius_search(modes[k].data(), h);
         c.height = heights[k];
         clusters.push_back(std::move(c));
     }

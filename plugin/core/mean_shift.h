@@ -11,7 +11,7 @@ namespace symmetry {
 
 struct Cluster {
     Eigen::VectorXd mode;      ///< the local maximum of the density
-    std::vector<int> members;  ///< points within the bandwidth of the mode, each in one cluster only
+    std::vector<int> members;  ///< points within the bandwidth of the mode (a point may be in several)
     int height = 0;            ///< number of points within the bandwidth of the mode (the density at the mode)
 };
 
@@ -19,6 +19,10 @@ struct MeanShiftOptions {
     double bandwidth = 0.05;  ///< h, in the units of the points
     int min_support = 5;      ///< clusters whose height is below this are not returned
     int max_iterations = 100;
+    /// The densities that order the starting points are counted up to this many
+    /// neighbours: beyond it every start is dense enough to climb early, and an uncapped
+    /// count costs as much as the neighbourhood is large (on a torus, every point's).
+    int density_cap = 256;
     /// Stop after this many modes (0: no limit).  Ascents start from the densest points,
     /// so the modes found first are the high ones; a caller that can only use the top few
     /// need not climb every hill of the background noise.
@@ -33,7 +37,7 @@ struct MeanShiftOptions {
 /// kernel, Comaniciu and Meer 2002), so every step is one kd-tree range query.  Starting
 /// points are taken in decreasing order of density and skipped when they lie within h/2
 /// of an earlier ascent path, which they would follow anyway (Comaniciu and Meer's basin
-/// of attraction); modes closer than h/2 are merged.  Each point joins the nearest mode within h.  Clusters are returned in
+/// of attraction); modes closer than h/2 are merged.  Clusters are returned in
 /// decreasing order of height; the result is deterministic.
 std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& options);
 

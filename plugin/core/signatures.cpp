@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <utility>
 
 namespace symmetry {
@@ -200,104 +201,120 @@ std::vector<int> spatial_order(const std::vector<SurfaceSample>& samples) {
 
 }  // namespace
 
+// What the tensor needs of the mesh, read once: faces, edges with their dihedral
+// angles, and a tree over edge midpoints.  An edge meets the ball only if its midpoint
+// is within radius + half its length, so querying with half the longest edge finds
+// them all; the exact clip rejects the extra ones.
+struct CurvatureEstimator::Data {
+    std::vector<FaceData> faces;
+    std::vector<Edge> edges;
+    std::unique_ptr<KdTree> tree;
+    double half_longest = 0;
+    // Work space reused across samples: the faces met by the current ball, and a
+    // per-face stamp that lists each face once without clearing.
+    std::vector<int> stamp;
+    std::vector<int> ball_faces;
+    int next_stamp = 0;
+};
+
+CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_unique<Data>()) {
+    Data& d = *data_;
+    d.faces = read_faces(mesh);
+    d.edges = read_edges(mesh, d.faces);
+    KdTree::Points midpoints(Eigen::Index(d.edges.size()), 3);
+    for (size_t i = 0; i < d.edges.size(); ++i) {
+        midpoints.row(Eigen::Index(i)) = (0.5 * (d.edges[i].p0 + d.edges[i].p1)).transpose();
+        d.half_longest = std::max(d.half_longest, 0.5 * (d.edges[i].p1 - d.edges[i].p0).norm());
+    }
+    d.tree = std::make_unique<KdTree>(std::move(midpoints));
+    d.stamp.assign(d.faces.size(), -1);
+    d.ball_faces.reserve(256);
+}
+
+CurvatureEstimator::~CurvatureEstimator() = default;
+
+SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radius) const {
+    if (!(radius > 0) || !std::isfinite(radius))
+        throw InputError("The curvature radius must be a positive number.");
+    Data& d = *data_;
+    const int s = d.next_stamp++;
+    SurfaceSignature out;
+    const Eigen::Vector3d& c = sample.position;
+    out.position = c;
+    out.face = sample.face;
+    const bool face_ok = sample.face >= 0 && size_t(sample.face) < d.faces.size() && d.faces[size_t(sample.face)].live;
+
+    // T = sum_e beta(e) |e ∩ B| ê êᵀ (§2; Alliez et al. 2003), before the 1/|B|
+    // normalisation.
+    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+    d.ball_faces.clear();
+    auto add_face = [&](int f) {
+        if (f >= 0 && d.stamp[size_t(f)] != s) {
+            d.stamp[size_t(f)] = s;
+            d.ball_faces.push_back(f);
+        }
+    };
+    // The ball may lie inside the sample's face without meeting an edge.
+    if (face_ok) add_face(sample.face);
+    for (int index : d.tree->radius_search(c.data(), radius + d.half_longest)) {
+        const Edge& e = d.edges[size_t(index)];
+        double length = segment_length_in_ball(e.p0, e.p1, c, radius);
+        if (length <= 0) continue;
+        if (e.beta != 0) tensor.noalias() += (e.beta * length) * (e.unit * e.unit.transpose());
+        add_face(e.face0);
+        add_face(e.face1);
+    }
+
+    // |B| and the outward normal: area-weighted over the surface inside the ball, so
+    // the frame (§2) averages over the same neighbourhood as the curvatures.
+    double area = 0;
+    Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+    for (int f : d.ball_faces) {
+        double a = face_area_in_ball(d.faces[size_t(f)], c, radius);
+        area += a;
+        normal_sum += a * d.faces[size_t(f)].normal;
+    }
+    Eigen::Vector3d normal;
+    if (normal_sum.norm() > 1e-12 * std::max(area, 1e-300))
+        normal = normal_sum.normalized();
+    else if (face_ok)
+        normal = d.faces[size_t(sample.face)].normal;
+    else
+        normal = Eigen::Vector3d::UnitZ();
+    out.area = area;
+    tensor /= area > 0 ? area : M_PI * radius * radius;
+
+    // Project T on the tangent plane: the normal is an eigenvector of T with eigenvalue
+    // ~0, and so is the direction around a cylinder, so in 3D the two could be swapped;
+    // in the tangent plane only the principal pair is left.
+    Eigen::Vector3d t1, t2;
+    tangent_basis(normal, t1, t2);
+    Eigen::Matrix2d tangent;
+    tangent << t1.dot(tensor * t1), t1.dot(tensor * t2), t2.dot(tensor * t1), t2.dot(tensor * t2);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(tangent);
+    const Eigen::Vector2d lambda = eigen.eigenvalues();  // increasing
+    // The normal cycle's tensor swaps directions: an edge bends the surface across
+    // itself, so the eigenvector of the larger eigenvalue is the direction along which
+    // the surface bends least (a cylinder's axis gets 1/R, the curvature across it).
+    // Hence kappa1 = lambda0 lives on the eigenvector of lambda1.  Its sign is
+    // arbitrary; §2's pairing considers both orientations of the tangent frame.
+    const Eigen::Vector2d v = eigen.eigenvectors().col(1);
+    out.kappa1 = lambda(0);
+    out.kappa2 = lambda(1);
+    out.normal = normal;
+    out.direction1 = (v(0) * t1 + v(1) * t2).normalized();
+    out.direction2 = normal.cross(out.direction1);  // direction1 x direction2 = normal (§2)
+    return out;
+}
+
 std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::vector<SurfaceSample>& samples,
                                                  double radius) {
     if (!(radius > 0) || !std::isfinite(radius))
         throw InputError("The curvature radius must be a positive number.");
     std::vector<SurfaceSignature> signatures(samples.size());
     if (samples.empty()) return signatures;
-
-    const std::vector<FaceData> faces = read_faces(mesh);
-    const std::vector<Edge> edges = read_edges(mesh, faces);
-
-    // One tree over edge midpoints for all samples.  An edge meets the ball only if
-    // its midpoint is within radius + half its length, so querying with half the
-    // longest edge finds them all; the exact clip below rejects the extra ones.
-    KdTree::Points midpoints(Eigen::Index(edges.size()), 3);
-    double half_longest = 0;
-    for (size_t i = 0; i < edges.size(); ++i) {
-        midpoints.row(Eigen::Index(i)) = (0.5 * (edges[i].p0 + edges[i].p1)).transpose();
-        half_longest = std::max(half_longest, 0.5 * (edges[i].p1 - edges[i].p0).norm());
-    }
-    const KdTree tree(std::move(midpoints));
-
-    // Work space reused across samples: the faces met by the current ball, and a
-    // per-face stamp (the sample's index) that lists each face once without clearing.
-    std::vector<int> stamp(faces.size(), -1);
-    std::vector<int> ball_faces;
-    ball_faces.reserve(256);
-    const double fallback_area = M_PI * radius * radius;
-
-    for (int s : spatial_order(samples)) {
-        const SurfaceSample& sample = samples[size_t(s)];
-        SurfaceSignature& out = signatures[size_t(s)];
-        const Eigen::Vector3d& c = sample.position;
-        out.position = c;
-        out.face = sample.face;
-        const bool face_ok = sample.face >= 0 && size_t(sample.face) < faces.size() && faces[size_t(sample.face)].live;
-
-        // T = sum_e beta(e) |e ∩ B| ê êᵀ (§2; Alliez et al. 2003), before
-        // the 1/|B| normalisation.
-        Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-        ball_faces.clear();
-        auto add_face = [&](int f) {
-            if (f >= 0 && stamp[size_t(f)] != s) {
-                stamp[size_t(f)] = s;
-                ball_faces.push_back(f);
-            }
-        };
-        // The ball may lie inside the sample's face without meeting an edge.
-        if (face_ok) add_face(sample.face);
-        for (int index : tree.radius_search(c.data(), radius + half_longest)) {
-            const Edge& e = edges[size_t(index)];
-            double length = segment_length_in_ball(e.p0, e.p1, c, radius);
-            if (length <= 0) continue;
-            if (e.beta != 0) tensor.noalias() += (e.beta * length) * (e.unit * e.unit.transpose());
-            add_face(e.face0);
-            add_face(e.face1);
-        }
-
-        // |B| and the outward normal: area-weighted over the surface inside the ball,
-        // so the frame (§2) averages over the same neighbourhood as the curvatures.
-        double area = 0;
-        Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
-        for (int f : ball_faces) {
-            double a = face_area_in_ball(faces[size_t(f)], c, radius);
-            area += a;
-            normal_sum += a * faces[size_t(f)].normal;
-        }
-        Eigen::Vector3d normal;
-        if (normal_sum.norm() > 1e-12 * std::max(area, 1e-300))
-            normal = normal_sum.normalized();
-        else if (face_ok)
-            normal = faces[size_t(sample.face)].normal;
-        else
-            normal = Eigen::Vector3d::UnitZ();
-        out.area = area;
-        tensor /= area > 0 ? area : fallback_area;
-
-        // Project T on the tangent plane: the normal is an eigenvector of T with
-        // eigenvalue ~0, and so is the direction around a cylinder, so in 3D the
-        // two could be swapped; in the tangent plane only the principal pair is left.
-        Eigen::Vector3d t1, t2;
-        tangent_basis(normal, t1, t2);
-        Eigen::Matrix2d tangent;
-        tangent << t1.dot(tensor * t1), t1.dot(tensor * t2), t2.dot(tensor * t1), t2.dot(tensor * t2);
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(tangent);
-        const Eigen::Vector2d lambda = eigen.eigenvalues();  // increasing
-        // The normal cycle's tensor swaps directions: an edge bends the surface
-        // across itself, so the eigenvector of the larger eigenvalue is the
-        // direction along which the surface bends least (a cylinder's axis gets
-        // 1/R, the curvature across it).  Hence kappa1 = lambda0 lives on the
-        // eigenvector of lambda1.  Its sign is arbitrary; §2's pairing considers
-        // both orientations of the tangent frame.
-        const Eigen::Vector2d v = eigen.eigenvectors().col(1);
-        out.kappa1 = lambda(0);
-        out.kappa2 = lambda(1);
-        out.normal = normal;
-        out.direction1 = (v(0) * t1 + v(1) * t2).normalized();
-        out.direction2 = normal.cross(out.direction1);  // direction1 x direction2 = normal (§2)
-    }
+    const CurvatureEstimator estimator(mesh);
+    for (int s : spatial_order(samples)) signatures[size_t(s)] = estimator.at(samples[size_t(s)], radius);
     return signatures;
 }
 

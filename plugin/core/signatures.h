@@ -8,6 +8,7 @@
 #include "sampling.h"
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 namespace symmetry {
@@ -35,5 +36,19 @@ struct SurfaceSignature {
 /// and are skipped.  The radius must be positive (InputError otherwise).
 std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::vector<SurfaceSample>& samples,
                                                  double radius);
+
+/// The same estimate one sample at a time, for callers that need it at points they choose
+/// (verification compares the curvature at a point with that at its image).  Reads the
+/// mesh once; `at` reuses work space, so one estimator serves one thread.
+class CurvatureEstimator {
+public:
+    explicit CurvatureEstimator(const Mesh& mesh);  ///< the mesh must outlive the estimator
+    ~CurvatureEstimator();
+    SurfaceSignature at(const SurfaceSample& sample, double radius) const;
+
+private:
+    struct Data;
+    std::unique_ptr<Data> data_;
+};
 
 }  // namespace symmetry

@@ -113,6 +113,12 @@ Transformation TransformationSpace::transformation(const Point& p, bool reflecti
     return t;
 }
 
+double TransformationSpace::rotation_degrees(double distance) {
+    // A rotation by θ is 2√2 sin(θ/2) away from the identity in the Frobenius norm.
+    const double s = std::min(1.0, distance / (kRotationWeight * 2 * std::sqrt(2.0)));
+    return 2 * std::asin(s) * 180 / M_PI;
+}
+
 double TransformationSpace::distance(const Transformation& a, const Transformation& b) const {
     if (a.reflection != b.reflection) return INFINITY;
     return (coordinates(a) - coordinates(b)).norm();

@@ -64,6 +64,9 @@ public:
     Transformation transformation(const Point& coordinates, bool reflection) const;
     /// The metric of §3; +infinity between a proper and an improper transformation.
     double distance(const Transformation& a, const Transformation& b) const;
+    /// The rotation angle, in degrees, that is `distance` away from the identity in Γ: how
+    /// far a cluster's mode may be turned from the truth, for a distance of the bandwidth.
+    static double rotation_degrees(double distance);
     /// Projects the rotation block of `coordinates` onto SO(3) in place (used by mean shift).
     void project(Eigen::Ref<Eigen::VectorXd> coordinates) const;
 

@@ -1,359 +1,228 @@
 #include "verification.h"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
-#include <deque>
 
 namespace symmetry {
 
-VertexNeighbours vertex_neighbours(const Mesh& mesh) {
-    const int n = int(mesh.vert.size());
-    std::vector<std::vector<int>> lists(n);
-    for (const auto& f : mesh.face) {
-        if (f.IsD()) continue;
-        for (int k = 0; k < 3; ++k) {
-            int a = int(vcg::tri::Index(mesh, f.cV(k))), b = int(vcg::tri::Index(mesh, f.cV((k + 1) % 3)));
-            lists[a].push_back(b);
-            lists[b].push_back(a);
+double systematic_deviation(const MeshNeighbourhoods& mesh, const std::vector<int>& patch,
+                            const std::vector<double>& deviation, int iterations) {
+    if (patch.empty()) return 0;
+    std::vector<int> local(size_t(mesh.vertex_count()), -1);
+    for (size_t i = 0; i < patch.size(); ++i) local[size_t(patch[i])] = int(i);
+    std::vector<double> s(patch.size()), next(patch.size());
+    for (size_t i = 0; i < patch.size(); ++i) s[i] = deviation[size_t(patch[i])];
+    for (int it = 0; it < iterations; ++it) {
+        for (size_t i = 0; i < patch.size(); ++i) {
+            const int v = patch[i];
+            double sum = s[i];
+            int count = 1;
+            for (int k = mesh.neighbour_offsets[v]; k < mesh.neighbour_offsets[v + 1]; ++k) {
+                int j = local[size_t(mesh.neighbours[size_t(k)])];
+                if (j >= 0) { sum += s[size_t(j)]; ++count; }
+            }
+            next[i] = sum / count;
         }
+        s.swap(next);
     }
-    VertexNeighbours adjacency;
-    adjacency.offsets.reserve(n + 1);
-    adjacency.offsets.push_back(0);
-    for (auto& l : lists) {
-        std::sort(l.begin(), l.end());
-        l.erase(std::unique(l.begin(), l.end()), l.end());
-        adjacency.neighbours.insert(adjacency.neighbours.end(), l.begin(), l.end());
-        adjacency.offsets.push_back(int(adjacency.neighbours.size()));
-    }
-    return adjacency;
-}
-
-Transformation fit_transformation(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
-                                  TransformationGroup group, bool reflection) {
-    const int n = int(source.size());
-    Eigen::Matrix3Xd X(3, n), Y(3, n);
-    for (int i = 0; i < n; ++i) { X.col(i) = source[i]; Y.col(i) = target[i]; }
-    switch (group) {
-    case TransformationGroup::Translations: {
-        Transformation t;
-        t.translation = (Y - X).rowwise().mean();
-        return t;
-    }
-    case TransformationGroup::Reflections: {
-        // A mirror moves every point along the plane normal n: n is the dominant
-        // direction of the displacements, the plane passes through the midpoints.
-        Eigen::Matrix3Xd D = Y - X;
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(D * D.transpose());
-        Eigen::Vector3d normal = eig.eigenvectors().col(2);
-        double offset = normal.dot(0.5 * (X + Y).rowwise().mean());
-        Transformation t;
-        t.reflection = true;
-        t.rotation = (Eigen::Matrix3d::Identity() - 2 * normal * normal.transpose()) * Transformation::mirror();
-        t.translation = 2 * offset * normal;
-        return t;
-    }
-    case TransformationGroup::Rigid:
-    case TransformationGroup::Similarity: {
-        // Umeyama finds a proper similarity; an improper one is fitted to the mirrored
-        // source and composed with the mirror, the same split as in Transformation.
-        Eigen::Matrix3Xd S = reflection ? Eigen::Matrix3Xd(Transformation::mirror() * X) : X;
-        Eigen::Matrix4d U = Eigen::umeyama(S, Y, group == TransformationGroup::Similarity);
-        Eigen::Matrix3d A = U.topLeftCorner<3, 3>();
-        if (reflection) A = A * Transformation::mirror();
-        return Transformation::from_linear(A, U.topRightCorner<3, 1>());
-    }
-    }
-    return Transformation();
+    double sum2 = 0;
+    for (double x : s) sum2 += x * x;
+    return std::sqrt(sum2 / double(s.size()));
 }
 
 namespace {
 
-// One linearised point-to-plane step (Chen and Medioni; Rusinkiewicz and Levoy 2001):
-// the small motion x -> x + ω × (x - c) + σ (x - c) + τ about the centroid c that best
-// moves the points `moved` onto the tangent planes (q, n).  Point-to-point steps crawl
-// along directions in which the surface nearly slides onto itself (a bumpy torus turning
-// about its axis); point-to-plane steps do not.  σ is fitted only for similarities.
-Transformation point_to_plane_step(const std::vector<Eigen::Vector3d>& moved, const std::vector<Eigen::Vector3d>& q,
-                                   const std::vector<Eigen::Vector3d>& n, bool with_scale) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (const auto& p : moved) c += p;
-    c /= double(moved.size());
-    const int k = with_scale ? 7 : 6;
-    Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(k, k);
-    Eigen::VectorXd Atb = Eigen::VectorXd::Zero(k);
-    Eigen::VectorXd row(k);
-    for (size_t i = 0; i < moved.size(); ++i) {
-        Eigen::Vector3d x = moved[i] - c;
-        row.head<3>() = x.cross(n[i]);
-        row.segment<3>(3) = n[i];
-        if (with_scale) row(6) = x.dot(n[i]);
-        double residual = (moved[i] - q[i]).dot(n[i]);
-        AtA += row * row.transpose();
-        Atb -= row * residual;
-    }
-    Eigen::VectorXd x = AtA.ldlt().solve(Atb);
-    Transformation step;
-    if (!x.allFinite()) return step;
-    Eigen::Vector3d omega = x.head<3>();
-    if (omega.norm() > 0) step.rotation = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
-    step.scale = with_scale ? std::exp(x(6)) : 1.0;
-    // x -> s R (x - c) + c + τ
-    step.translation = c + x.segment<3>(3) - step.scale * step.rotation * c;
-    return step;
+std::vector<Eigen::Vector3d> positions_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices) {
+    std::vector<Eigen::Vector3d> p;
+    p.reserve(vertices.size());
+    for (int v : vertices) p.push_back(mesh.positions[size_t(v)]);
+    return p;
 }
 
-Eigen::Vector3d position(const Vertex& v) { return Eigen::Vector3d(v.cP()[0], v.cP()[1], v.cP()[2]); }
-Eigen::Vector3d normal(const Vertex& v) { return Eigen::Vector3d(v.cN()[0], v.cN()[1], v.cN()[2]); }
+double area_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, std::vector<char>& scratch) {
+    for (int v : vertices) scratch[size_t(v)] = 1;
+    double area = patch_area(mesh, vertices, scratch);
+    for (int v : vertices) scratch[size_t(v)] = 0;
+    return area;
+}
 
-// Normals must agree too: otherwise a thin plate's two sides, or a surface crossing
-// another, would pass the distance test alone.
-const double kNormalAgreement = std::cos(M_PI / 4);
-
-// A symmetry must hold well inside the tolerance over its patch.  Two unrelated smooth
-// patches with equal curvatures (which pairing brings together) also touch: their gap
-// grows from zero at the contact to the tolerance at the patch border, which gives an
-// RMS of about tolerance/2 (cubic growth over a disk).  A true, even noisy, symmetry
-// has an RMS far below that, set by noise and tessellation.
-const double kMaxRmsToTolerance = 0.25;
-
-// A patch of a few hundred vertices pins down all degrees of freedom of the
-// transformation; fitted on fewer, ICP follows the noise of a small patch.
-const size_t kMinIcpVertices = 256;
-const int kIcpIterations = 20;
-const int kIcpIterationsWhileGrowing = 4;
-
-// One side of a symmetry: grows the set of vertices v whose image T(v) lies on the
-// surface, restricted (for the target side) to images that land on `allowed` faces.
-class RegionGrower {
-public:
-    RegionGrower(const Mesh& mesh, const VertexNeighbours& adjacency, const SurfaceQuery& surface, double tolerance)
-        : mesh_(mesh), adjacency_(adjacency), surface_(surface), tolerance_(tolerance),
-          state_(mesh.vert.size(), kUnknown), deviation_(mesh.vert.size(), 0.0) {}
-
-    bool accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces) {
-        const Vertex& vertex = mesh_.vert[v];
-        ClosestPoint cp = surface_.closest(T.apply(position(vertex)), tolerance_);
-        if (!cp.found) return false;
-        if (T.apply_to_normal(normal(vertex)).dot(cp.normal) < kNormalAgreement) return false;
-        if (allowed_faces && !(*allowed_faces)[cp.face]) return false;
-        deviation_[v] = cp.signed_distance;
-        return true;
-    }
-
-    // Breadth-first growth from `seed` over mesh edges; calls refit(patch) whenever the
-    // patch has doubled, and retries the rejected border with the refined transformation.
-    template <class Refit>
-    std::vector<int> grow(int seed, Transformation& T, const std::vector<char>* allowed_faces, Refit&& refit,
-                          const bool& stop) {
-        std::vector<int> patch;
-        if (state_[seed] == kInPatch) return patch;
-        if (!accepts(seed, T, allowed_faces)) { state_[seed] = kRejected; return patch; }
-        std::deque<int> queue{seed};
-        std::vector<int> rejected;
-        state_[seed] = kInPatch;
-        patch.push_back(seed);
-        size_t next_refit = kMinIcpVertices;
-        while (!queue.empty() && !stop) {
-            int v = queue.front();
-            queue.pop_front();
-            for (int k = adjacency_.offsets[v]; k < adjacency_.offsets[v + 1]; ++k) {
-                int u = adjacency_.neighbours[k];
-                if (state_[u] == kInPatch) continue;
-                if (state_[u] == kRejected) continue;
-                if (accepts(u, T, allowed_faces)) {
-                    state_[u] = kInPatch;
-                    patch.push_back(u);
-                    queue.push_back(u);
-                } else {
-                    state_[u] = kRejected;
-                    rejected.push_back(u);
-                }
-            }
-            if (patch.size() >= next_refit && refit(patch, T)) {
-                next_refit *= 2;
-                // The border rejected under the old transformation may match now.
-                for (int u : rejected)
-                    if (state_[u] == kRejected && accepts(u, T, allowed_faces)) {
-                        state_[u] = kInPatch;
-                        patch.push_back(u);
-                        queue.push_back(u);
-                    }
-                rejected.erase(std::remove_if(rejected.begin(), rejected.end(),
-                                              [&](int u) { return state_[u] == kInPatch; }),
-                               rejected.end());
-            }
+// Step 1: the pairs whose vote lies nearest to the cluster's mode agree best with it, so
+// they start first.  Ties are broken by vertex, so the order, and hence the result, does
+// not depend on the order in which the cluster listed its pairs.
+std::vector<int> order_seeds(std::vector<Seed> seeds, int vertex_count) {
+    std::sort(seeds.begin(), seeds.end(), [](const Seed& a, const Seed& b) {
+        return a.distance_to_mode != b.distance_to_mode ? a.distance_to_mode < b.distance_to_mode : a.vertex < b.vertex;
+    });
+    std::vector<int> order;
+    std::vector<char> seen(size_t(vertex_count), 0);
+    for (const Seed& s : seeds)
+        if (s.vertex >= 0 && s.vertex < vertex_count && !seen[size_t(s.vertex)]) {
+            seen[size_t(s.vertex)] = 1;
+            order.push_back(s.vertex);
         }
-        return patch;
-    }
+    return order;
+}
 
-    void release(const std::vector<int>& patch) {
-        for (int v : patch) state_[v] = kRejected;
-    }
-    bool in_patch(int v) const { return state_[v] == kInPatch; }
-    double deviation(int v) const { return deviation_[v]; }
+// The ICP refit a patch gets each time it doubles while growing (step 2).  It gives up
+// on the patch when even the refitted transformation leaves a systematic deviation far
+// above the acceptance bound: two smooth patches touching, which growth would otherwise
+// slide along.  (The deviations are those recorded at acceptance, under the previous
+// fit: close enough for an early exit with a margin of two.)
+RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
+                                  const RegionGrower& grower, const VerificationOptions& options) {
+    return [&mesh, &surface, &grower, &options](const std::vector<int>& patch, Transformation& t) {
+        if (!options.refine_with_icp) return RefitOutcome::Unchanged;
+        IcpResult r = refine_by_icp(positions_of(mesh, patch), surface, t, options.group, options.tolerance,
+                                    options.icp.iterations_while_growing, options.icp);
+        if (!r.refitted) return RefitOutcome::Unchanged;
+        t = r.transform;
+        double systematic = systematic_deviation(mesh, patch, grower.deviations(), options.deviation_smoothing_iterations);
+        if (systematic > 2 * options.max_systematic_deviation * options.tolerance) return RefitOutcome::Hopeless;
+        return RefitOutcome::Refitted;
+    };
+}
 
-private:
-    enum : char { kUnknown = 0, kInPatch = 1, kRejected = 2 };
-    const Mesh& mesh_;
-    const VertexNeighbours& adjacency_;
-    const SurfaceQuery& surface_;
-    double tolerance_;
-    std::vector<char> state_;
-    std::vector<double> deviation_;
+// Step 2: one connected source component per seed not yet covered, each grown from the
+// current estimate of T with a copy of its own.  A component that is hopeless or too
+// small is dropped on its own (and its vertices are not tried again: a later seed inside
+// it would start from the same estimate and grow the same component).  The estimate is
+// refitted on all accepted components each time they have doubled.
+struct SourceComponents {
+    std::vector<int> vertices;
+    Transformation estimate;
 };
 
-double patch_area(const Mesh& mesh, const std::vector<char>& in_patch) {
-    double area = 0;
-    for (const auto& f : mesh.face) {
-        if (f.IsD()) continue;
-        if (in_patch[vcg::tri::Index(mesh, f.cV(0))] && in_patch[vcg::tri::Index(mesh, f.cV(1))] &&
-            in_patch[vcg::tri::Index(mesh, f.cV(2))])
-            area += 0.5 * ((f.cP(1) - f.cP(0)) ^ (f.cP(2) - f.cP(0))).Norm();
+SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
+                                        const Transformation& mode, const std::vector<int>& seeds,
+                                        const VerificationOptions& options) {
+    RegionGrower grower(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
+    const RegionGrower::Refit refit = growing_refit(mesh, surface, grower, options);
+    std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
+    SourceComponents out;
+    out.estimate = mode;
+    size_t refitted_at = 0;
+    for (int seed : seeds) {
+        if (grower.tried(seed)) continue;
+        Transformation local = out.estimate;
+        bool hopeless = false;
+        std::vector<int> component = grower.grow(seed, local, nullptr, refit, hopeless);
+        if (component.empty()) continue;
+        if (hopeless || area_of(mesh, component, scratch) < options.min_patch_area) {
+            grower.forbid(component);
+            continue;
+        }
+        const bool first = out.vertices.empty();
+        out.vertices.insert(out.vertices.end(), component.begin(), component.end());
+        if (first) out.estimate = local;
+        if (options.refine_with_icp && out.vertices.size() >= 2 * refitted_at) {
+            IcpResult r = refine_by_icp(positions_of(mesh, out.vertices), surface, out.estimate, options.group,
+                                        options.tolerance, options.icp.iterations_while_growing, options.icp);
+            if (r.refitted) out.estimate = r.transform;
+            refitted_at = out.vertices.size();
+        }
     }
-    return area;
+    std::sort(out.vertices.begin(), out.vertices.end());
+    return out;
+}
+
+// Step 3: the final T, refined on all accepted components, and the source patch regrown
+// under it from those components, so every vertex of the result is measured under the
+// same T (and the border rejected under earlier estimates gets another chance).
+std::vector<int> regrow_under_final_transform(const MeshNeighbourhoods& mesh, const std::vector<int>& accepted,
+                                              const Transformation& T, RegionGrower& grower,
+                                              const VerificationOptions& options) {
+    std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
+    std::vector<int> patch;
+    Transformation fixed = T;
+    bool hopeless = false;
+    for (int v : accepted) {
+        if (grower.tried(v)) continue;
+        std::vector<int> component = grower.grow(v, fixed, nullptr, nullptr, hopeless);
+        if (component.empty()) continue;
+        if (area_of(mesh, component, scratch) < options.min_patch_area) continue;
+        patch.insert(patch.end(), component.begin(), component.end());
+    }
+    std::sort(patch.begin(), patch.end());
+    return patch;
+}
+
+// Step 4: a symmetry moves its patch (the identity and small slides along a continuous
+// self-map do not), covers enough area, and deviates from perfect symmetry only by what
+// averages out (see VerificationOptions::max_systematic_deviation).
+bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, VerifiedSymmetry& s,
+            const VerificationOptions& options) {
+    double displacement2 = 0, deviation2 = 0;
+    for (int v : s.source_vertices) {
+        const Eigen::Vector3d& p = mesh.positions[size_t(v)];
+        const double d = grower.deviation(v);
+        s.source_deviation.push_back(d);
+        deviation2 += d * d;
+        s.max_error = std::max(s.max_error, std::abs(d));
+        displacement2 += (s.transform.apply(p) - p).squaredNorm();
+    }
+    const double count = double(s.source_vertices.size());
+    if (std::sqrt(displacement2 / count) < options.min_displacement) return false;
+    std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
+    s.source_area = area_of(mesh, s.source_vertices, scratch);
+    if (s.source_area < options.min_patch_area) return false;
+    s.rms_error = std::sqrt(deviation2 / count);
+    s.systematic_error = systematic_deviation(mesh, s.source_vertices, grower.deviations(),
+                                              options.deviation_smoothing_iterations);
+    return s.systematic_error <= options.max_systematic_deviation * options.tolerance;
+}
+
+// Step 5: the target patch, the vertices w whose preimage T⁻¹(w) lands on a face of the
+// source patch, grown from the vertices of the faces the source lands on.
+void grow_target_side(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const RegionGrower& source,
+                      VerifiedSymmetry& s, const VerificationOptions& options) {
+    std::vector<char> in_source(size_t(mesh.vertex_count()), 0);
+    for (int v : s.source_vertices) in_source[size_t(v)] = 1;
+    std::vector<char> source_faces(mesh.faces.size(), 0);
+    for (int v : s.source_vertices)
+        for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k) source_faces[size_t(mesh.faces_around[k])] = 1;
+    // T⁻¹ divides distances by the scale, so the same tolerance shrinks with it.
+    RegionGrower target(mesh, surface, {options.tolerance / s.transform.scale, options.normal_agreement_degrees});
+    const Transformation inverse = s.transform.inverse();
+    bool hopeless = false;
+    std::vector<int> patch;
+    for (int v : s.source_vertices) {
+        const auto& corners = mesh.faces[size_t(source.landing_face(v))];
+        for (int w : corners) {
+            if (target.tried(w)) continue;
+            Transformation fixed = inverse;
+            std::vector<int> component = target.grow(w, fixed, &source_faces, nullptr, hopeless);
+            patch.insert(patch.end(), component.begin(), component.end());
+        }
+    }
+    std::sort(patch.begin(), patch.end());
+    s.target_vertices = patch;
+    for (int w : patch) s.target_deviation.push_back(target.deviation(w) * s.transform.scale);
 }
 
 }  // namespace
 
-std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const VertexNeighbours& adjacency,
-                                                         const SurfaceQuery& surface,
-                                                         const Transformation& candidate,
-                                                         const std::vector<int>& seed_vertices,
-                                                         const VerificationOptions& options) {
-    const size_t nv = mesh.vert.size();
-    Transformation T = candidate;
+std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
+                                                 const Transformation& mode, std::vector<Seed> seeds,
+                                                 const VerificationOptions& options) {
+    const std::vector<int> order = order_seeds(std::move(seeds), mesh.vertex_count());
+    SourceComponents components = grow_source_components(mesh, surface, mode, order, options);
+    if (components.vertices.empty()) return std::nullopt;
 
-    // ICP (Rusinkiewicz and Levoy 2001): closest points of the transformed patch, then
-    // the best transformation of the group for those correspondences, iterated until the
-    // patch stops moving.  A stride keeps each iteration to a few thousand points.
-    bool hopeless = false;   // set when a refit shows the candidate cannot pass
-    auto refit_with = [&](const std::vector<int>& patch, Transformation& t, int iterations) {
-        if (!options.refine_with_icp || patch.size() < kMinIcpVertices) return false;
-        const size_t stride = std::max<size_t>(1, patch.size() / 4000);
-        const bool planar = options.group == TransformationGroup::Rigid || options.group == TransformationGroup::Similarity;
-        std::vector<Eigen::Vector3d> src, moved, dst, normals;
-        bool changed = false;
-        for (int iteration = 0; iteration < iterations; ++iteration) {
-            src.clear();
-            moved.clear();
-            dst.clear();
-            normals.clear();
-            for (size_t i = 0; i < patch.size(); i += stride) {
-                Eigen::Vector3d p = position(mesh.vert[patch[i]]);
-                ClosestPoint cp = surface.closest(t.apply(p), 2 * options.tolerance);
-                if (!cp.found) continue;
-                src.push_back(p);
-                moved.push_back(t.apply(p));
-                dst.push_back(cp.point);
-                normals.push_back(cp.normal);
-            }
-            if (src.size() < kMinIcpVertices / 2) break;
-            Transformation fitted = planar ? point_to_plane_step(moved, dst, normals,
-                                                                 options.group == TransformationGroup::Similarity) * t
-                                           : fit_transformation(src, dst, options.group, t.reflection);
-            if (!fitted.matrix().allFinite()) break;
-            double shift = 0;
-            for (size_t i = 0; i < src.size(); ++i) shift = std::max(shift, (fitted.apply(src[i]) - moved[i]).norm());
-            t = fitted;
-            changed = true;
-            if (shift < 1e-3 * options.tolerance) break;
-        }
-        if (changed) {
-            double sum = 0;
-            for (size_t i = 0; i < src.size(); ++i) sum += (t.apply(src[i]) - dst[i]).squaredNorm();
-            // Far above the final bound even after refitting: two patches merely touching;
-            // stop growing rather than cover the model with them.
-            if (std::sqrt(sum / double(src.size())) > 2 * kMaxRmsToTolerance * options.tolerance) hopeless = true;
-        }
-        return changed;
-    };
-    // While the patch grows a few ICP iterations suffice, since each refit starts from the
-    // previous one; the final refit converges fully.
-    auto refit = [&](const std::vector<int>& patch, Transformation& t) {
-        return refit_with(patch, t, kIcpIterationsWhileGrowing);
-    };
-    auto no_refit = [](const std::vector<int>&, Transformation&) { return false; };
-
-    // Source side: one connected patch per seed that is not yet covered.
-    RegionGrower source(mesh, adjacency, surface, options.tolerance);
-    std::vector<char> in_source(nv, 0);
-    for (int seed : seed_vertices) {
-        if (seed < 0 || size_t(seed) >= nv || source.in_patch(seed)) continue;
-        std::vector<int> component = source.grow(seed, T, nullptr, refit, hopeless);
-        if (hopeless) return std::nullopt;
-        if (component.empty()) continue;
-        std::vector<char> mask(nv, 0);
-        for (int v : component) mask[v] = 1;
-        if (patch_area(mesh, mask) < options.min_patch_area) {
-            source.release(component);  // too small to be a symmetry (§4: significant patches only)
-            continue;
-        }
-        for (int v : component) in_source[v] = 1;
+    VerifiedSymmetry s;
+    s.transform = components.estimate;
+    if (options.refine_with_icp) {
+        IcpResult r = refine_by_icp(positions_of(mesh, components.vertices), surface, s.transform, options.group,
+                                    options.tolerance, options.icp.iterations, options.icp);
+        if (r.refitted) s.transform = r.transform;
     }
-
-    VerifiedSymmetry result;
-    for (size_t v = 0; v < nv; ++v)
-        if (in_source[v]) result.source_vertices.push_back(int(v));
-    if (result.source_vertices.empty()) return std::nullopt;
-
-    // Final ICP over the whole patch, then deviations under the final transformation.
-    refit_with(result.source_vertices, T, kIcpIterations);
-    double displacement2 = 0, deviation2 = 0;
-    std::vector<int> kept;
-    std::vector<int> landing_faces;  // where T(v) lands: the target side grows from there
-    for (int v : result.source_vertices) {
-        Eigen::Vector3d p = position(mesh.vert[v]);
-        ClosestPoint cp = surface.closest(T.apply(p), 2 * options.tolerance);
-        if (!cp.found) { in_source[v] = 0; continue; }  // drifted away under the refined T
-        kept.push_back(v);
-        landing_faces.push_back(cp.face);
-        result.source_deviation.push_back(cp.signed_distance);
-        deviation2 += cp.distance * cp.distance;
-        displacement2 += (T.apply(p) - p).squaredNorm();
+    RegionGrower final_source(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
+    s.source_vertices = regrow_under_final_transform(mesh, components.vertices, s.transform, final_source, options);
+    if (s.source_vertices.empty()) return std::nullopt;
+    if (!accept(mesh, final_source, s, options)) {
+        return std::nullopt;
     }
-    result.source_vertices = std::move(kept);
-    if (result.source_vertices.empty()) return std::nullopt;
-    const double count = double(result.source_vertices.size());
-    if (std::sqrt(displacement2 / count) < options.min_displacement) return std::nullopt;
-    result.source_area = patch_area(mesh, in_source);
-    if (result.source_area < options.min_patch_area) return std::nullopt;
-    result.rms_error = std::sqrt(deviation2 / count);
-    if (result.rms_error > kMaxRmsToTolerance * options.tolerance) return std::nullopt;
-    result.transform = T;
-
-    // Target side: the vertices w whose preimage T⁻¹(w) lands on a face of the source patch.
-    std::vector<char> source_faces(mesh.face.size(), 0);
-    for (size_t f = 0; f < mesh.face.size(); ++f) {
-        const Face& face = mesh.face[f];
-        if (face.IsD()) continue;
-        for (int k = 0; k < 3; ++k)
-            if (in_source[vcg::tri::Index(mesh, face.cV(k))]) source_faces[f] = 1;
-    }
-    const Transformation inverse = T.inverse();
-    const bool never = false;
-    // T⁻¹ divides distances by the scale, so the same tolerance shrinks with it.
-    RegionGrower target(mesh, adjacency, surface, options.tolerance / T.scale);
-    std::vector<char> in_target(nv, 0);
-    for (int f : landing_faces) {
-        const Face& face = mesh.face[f];
-        for (int k = 0; k < 3; ++k) {
-            int w = int(vcg::tri::Index(mesh, face.cV(k)));
-            if (in_target[w]) continue;
-            Transformation inv = inverse;
-            for (int u : target.grow(w, inv, &source_faces, no_refit, never)) in_target[u] = 1;
-        }
-    }
-    for (size_t w = 0; w < nv; ++w)
-        if (in_target[w]) {
-            result.target_vertices.push_back(int(w));
-            // Deviation measured in the target's own units.
-            result.target_deviation.push_back(target.deviation(int(w)) * T.scale);
-        }
-    return result;
+    grow_target_side(mesh, surface, final_source, s, options);
+    return s;
 }
 
 }  // namespace symmetry

@@ -1,32 +1,51 @@
-// Stage 7 (§4): verification of a candidate symmetry by region growing over the mesh,
-// with ICP refinement of the transformation and a normalised residual as its error.
+// Stage 7 (§4): verification of a candidate symmetry, "by extracting the connected
+// components of the model that are invariant under the corresponding transformation T_k",
+// grown from the cluster's pairs with ICP refinement, and graded by its deviation.
+//
+// The steps, each a function in verification.cpp:
+//   1. order the seeds: the pairs whose vote lies nearest to the cluster's mode first;
+//   2. grow one source component per seed, each from the current estimate of T with its
+//      own copy of it (region_growing.h, icp.h); a component that fails is dropped alone,
+//      so a wrong seed cannot pull T off or abort the symmetry;
+//   3. refine T on all accepted components together and regrow them under the final T;
+//   4. accept or reject the symmetry from its area, displacement and deviation;
+//   5. grow the target side under T⁻¹ onto the faces the source lands on.
 #pragma once
 
-#include "mesh.h"
+#include "icp.h"
+#include "region_growing.h"
 #include "surface_query.h"
 #include "transformation_space.h"
 
 #include <optional>
-#include <random>
 #include <vector>
 
 namespace symmetry {
 
-/// Vertex-to-vertex adjacency over mesh edges, in compressed rows: the neighbours of
-/// vertex v are neighbours[offsets[v] .. offsets[v+1]).  Built once per mesh.
-struct VertexNeighbours {
-    std::vector<int> offsets;
-    std::vector<int> neighbours;
-};
-VertexNeighbours vertex_neighbours(const Mesh& mesh);
-
 struct VerificationOptions {
     double tolerance = 0;        ///< largest distance of T(v) to the surface, absolute units
     double min_patch_area = 0;   ///< smallest area of a connected source patch worth keeping, absolute units
-    double min_displacement = 0; ///< a transformation that moves its patch less than this (RMS) is
-                                 ///< a continuous self-map of the surface, not a symmetry; rejected
-    bool refine_with_icp = true; ///< re-fit T to the matched vertices while the patch grows
+    double min_displacement = 0; ///< a transformation that moves its patch less than this (RMS, absolute
+                                 ///< units) is a continuous self-map of the surface, not a symmetry; rejected
+    bool refine_with_icp = true; ///< re-fit T to the matched vertices while the patch grows (§4)
     TransformationGroup group = TransformationGroup::Rigid;  ///< ICP stays inside this group
+    double normal_agreement_degrees = 45;  ///< see RegionGrowingOptions
+    /// The systematic deviation of a patch is its signed deviation averaged over each
+    /// vertex's neighbourhood (`deviation_smoothing_iterations` rounds of averaging over
+    /// mesh neighbours), which removes noise and keeps what is smooth.  Its RMS must stay
+    /// below this fraction of the tolerance.  Noise on a true copy averages out; two
+    /// unrelated smooth patches that merely touch do not: their gap grows smoothly from 0
+    /// at the contact to the tolerance at the border, an RMS of about half the tolerance.
+    double max_systematic_deviation = 0.25;
+    int deviation_smoothing_iterations = 4;  ///< rounds of averaging over mesh neighbours
+    IcpOptions icp;
+};
+
+/// A pair of the cluster, as a place to start growing: the source sample's vertex and
+/// the distance of the pair's vote to the cluster's mode in Γ.
+struct Seed {
+    int vertex = -1;
+    double distance_to_mode = 0;
 };
 
 struct VerifiedSymmetry {
@@ -34,32 +53,23 @@ struct VerifiedSymmetry {
     std::vector<int> source_vertices;     ///< mesh vertex indices, increasing
     std::vector<int> target_vertices;     ///< mesh vertex indices, increasing
     std::vector<double> source_deviation; ///< signed distance of T(v) to the surface, per source vertex
-    std::vector<double> target_deviation; ///< signed distance of T⁻¹(w) to the surface, per target vertex
+    std::vector<double> target_deviation; ///< signed distance of T⁻¹(w) to the surface times the scale, per target vertex
     double rms_error = 0;                 ///< RMS of source_deviation: the normalised ICP residual, absolute units
+    double max_error = 0;                 ///< largest |source_deviation|, absolute units
+    double systematic_error = 0;          ///< RMS of the locally averaged deviation, absolute units
     double source_area = 0;               ///< area of the faces whose three vertices are in the source patch
 };
 
-/// The transformation of `options.group` that best maps `source` onto `target` in the
-/// least-squares sense (Umeyama for rigid and similarity, through the fixed mirror when
-/// `reflection`; a plane fit for mirrors; the mean offset for translations).
-Transformation fit_transformation(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
-                                  TransformationGroup group, bool reflection);
+/// Verifies the candidate `mode` from its seeds (steps 1-5 above).  The result does not
+/// depend on the order of `seeds`.  Returns nothing when no patch of sufficient area is
+/// invariant under the transformation, or the patch fails the acceptance of step 4.
+std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
+                                                 const Transformation& mode, std::vector<Seed> seeds,
+                                                 const VerificationOptions& options);
 
-/// Grows patches invariant under `candidate` from the seed vertices (one per pair of the
-/// cluster, the first sample of each pair): a vertex v joins when T(v) lies within the
-/// tolerance of the surface with a normal that agrees with T's image of v's normal, and
-/// growth continues over mesh edges until no vertex can be added.  Seeds already inside
-/// a patch are skipped, as the paper removes their pairs from the cluster.  With ICP the
-/// transformation is re-fitted to the matched vertices each time the patch has doubled
-/// in size, and once at the end, staying inside `options.group`.  Connected patches
-/// smaller than options.min_patch_area are dropped; returns nothing when none is left.
-/// A result whose RMS deviation exceeds a quarter of the tolerance is rejected: it is two
-/// smooth patches that touch, not a symmetry (see verification.cpp).
-/// The target patch is grown the same way under T⁻¹, from the vertices T(source) lands on.
-std::optional<VerifiedSymmetry> verify_by_region_growing(const Mesh& mesh, const VertexNeighbours& adjacency,
-                                                         const SurfaceQuery& surface,
-                                                         const Transformation& candidate,
-                                                         const std::vector<int>& seed_vertices,
-                                                         const VerificationOptions& options);
+/// The RMS over `patch` of the deviation averaged over mesh neighbours inside the patch,
+/// `iterations` times (the systematic deviation of VerificationOptions).
+double systematic_deviation(const MeshNeighbourhoods& mesh, const std::vector<int>& patch,
+                            const std::vector<double>& deviation, int iterations);
 
 }  // namespace symmetry

@@ -197,7 +197,8 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 {
 	const int count = int(r.symmetries.size());
 	const int loop = std::max(o.basis_loop_length, 1);
-	std::vector<double> transforms, scales, reflections, rms, areas, supports, generators, words;
+	std::vector<double> transforms, scales, reflections, rms, maxima, systematic, areas, supports, generators, words;
+	std::vector<double> kinds, axes, pitches;
 	for (const symmetry::DetectedSymmetry& s : r.symmetries) {
 		const Eigen::Matrix4d m = s.transform.matrix();
 		for (int i = 0; i < 4; ++i)
@@ -206,11 +207,19 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 		scales.push_back(s.transform.scale);
 		reflections.push_back(s.transform.reflection ? 1 : 0);
 		rms.push_back(s.rms_error);
+		maxima.push_back(s.max_error);
+		systematic.push_back(s.systematic_error);
 		areas.push_back(s.source_area);
 		supports.push_back(s.support);
 		generators.push_back(s.is_generator ? 1 : 0);
 		for (int i = 0; i < loop; ++i)
 			words.push_back(i < int(s.word.size()) ? s.word[size_t(i)] : 0);
+		kinds.push_back(int(s.continuous_kind));
+		for (int i = 0; i < 3; ++i)
+			axes.push_back(s.axis_point[i]);
+		for (int i = 0; i < 3; ++i)
+			axes.push_back(s.axis_direction[i]);
+		pitches.push_back(s.pitch);
 	}
 	std::vector<double> layers(layerIds.begin(), layerIds.end());
 
@@ -220,11 +229,16 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["scales"] = vector(scales);
 	out["is_reflection"] = vector(reflections);
 	out["rms_errors"] = vector(rms);
+	out["max_errors"] = vector(maxima);
+	out["systematic_errors"] = vector(systematic);
 	out["source_areas"] = vector(areas);
 	out["supports"] = vector(supports);
 	out["generator_count"] = QVariant(r.generator_count);
 	out["is_generator"] = vector(generators);
 	out["basis_words"] = vector(words);
+	out["continuous_kinds"] = vector(kinds);
+	out["continuous_axes"] = vector(axes);
+	out["continuous_pitches"] = vector(pitches);
 	out["patch_layer_ids"] = vector(layers);
 	out["seconds_signatures"] = QVariant(r.seconds_signatures);
 	out["seconds_pairing"] = QVariant(r.seconds_pairing);
@@ -234,6 +248,10 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["pruned_samples"] = QVariant(r.pruned_samples);
 	out["pairs"] = QVariant(r.pairs);
 	out["clusters"] = QVariant(r.clusters);
+	out["verified_clusters"] = QVariant(r.verified_candidates);
+	out["noise"] = QVariant(r.noise);
+	out["smoothing_radius"] = QVariant(r.smoothing_radius);
+	out["curvature_radius_used"] = QVariant(r.curvature_radius);
 	return out;
 }
 

@@ -54,7 +54,7 @@ TEST(Verification, GrowsThePlantedPatchAndRefinesWithIcp) {
         build(scene);
         const double diagonal = scene.mesh.bbox.Diag();
         const double area = surface_area(scene.mesh);
-        auto adjacency = vertex_neighbours(scene.mesh);
+        auto adjacency = mesh_neighbourhoods(scene.mesh);
         SurfaceQuery surface(scene.mesh);
 
         Transformation rough = scene.planted;
@@ -64,7 +64,7 @@ TEST(Verification, GrowsThePlantedPatchAndRefinesWithIcp) {
         options.tolerance = 0.01 * diagonal;
         options.min_patch_area = 0.05 * area;
         options.min_displacement = 0.05 * diagonal;
-        auto result = verify_by_region_growing(scene.mesh, adjacency, surface, rough, {5, 700}, options);
+        auto result = verify_candidate(adjacency, surface, rough, {{5, 0}, {700, 0}}, options);
         ASSERT_TRUE(result.has_value());
         // The whole base torus, and only it, is the source patch; the copy is the target.
         EXPECT_NEAR(result->source_area / area, 0.5, 0.02);
@@ -91,7 +91,7 @@ TEST(Verification, NeverReportsWhatIsNotThere) {
     scene.planted.translation = Eigen::Vector3d(8, 0, 0);
     build(scene);
     const double diagonal = scene.mesh.bbox.Diag();
-    auto adjacency = vertex_neighbours(scene.mesh);
+    auto adjacency = mesh_neighbourhoods(scene.mesh);
     SurfaceQuery surface(scene.mesh);
     VerificationOptions options;
     options.tolerance = 0.01 * diagonal;
@@ -100,15 +100,15 @@ TEST(Verification, NeverReportsWhatIsNotThere) {
     // Into empty space: nothing matches.
     Transformation away = scene.planted;
     away.translation = Eigen::Vector3d(0, 30, 0);
-    EXPECT_FALSE(verify_by_region_growing(scene.mesh, adjacency, surface, away, {5, 700}, options).has_value());
+    EXPECT_FALSE(verify_candidate(adjacency, surface, away, {{5, 0}, {700, 0}}, options).has_value());
     // The identity maps everything onto itself but moves nothing: not a symmetry.
-    EXPECT_FALSE(verify_by_region_growing(scene.mesh, adjacency, surface, Transformation(), {5}, options).has_value());
+    EXPECT_FALSE(verify_candidate(adjacency, surface, Transformation(), {{5, 0}}, options).has_value());
     // A wrong rotation either fails or is pulled by ICP onto a true symmetry of the
     // scene; whatever is returned must map its patch onto the surface.
     for (double angle : {0.3, 0.6, 1.5}) {
         Transformation wrong = scene.planted;
         wrong.rotation = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
-        auto result = verify_by_region_growing(scene.mesh, adjacency, surface, wrong, {5, 700}, options);
+        auto result = verify_candidate(adjacency, surface, wrong, {{5, 0}, {700, 0}}, options);
         if (!result) continue;
         EXPECT_LT(result->rms_error, 0.002 * diagonal) << "angle " << angle;
         for (size_t i = 0; i < result->source_vertices.size(); i += 97) {

@@ -1,0 +1,272 @@
+#include "continuous_families.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace symmetry {
+
+namespace {
+
+double sine_of(double degrees) { return std::sin(degrees * M_PI / 180.0); }
+double cosine_of(double degrees) { return std::cos(degrees * M_PI / 180.0); }
+
+// The faces whose three corners are in the patch: centroid, unit normal, area.  Faces
+// rather than vertices, because a vertex normal on a crease (a cylinder's rim) belongs
+// to neither side and would make every motion look non-slippable.
+struct PatchFaces {
+    std::vector<Eigen::Vector3d> centroids, normals;
+    std::vector<double> areas;
+};
+
+PatchFaces patch_faces(const MeshNeighbourhoods& mesh, const std::vector<int>& patch) {
+    std::vector<char> member(size_t(mesh.vertex_count()), 0);
+    for (int v : patch) member[size_t(v)] = 1;
+    PatchFaces out;
+    for (int v : patch)
+        for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k) {
+            const int f = mesh.faces_around[size_t(k)];
+            const auto& c = mesh.faces[size_t(f)];
+            if (c[0] != v || !member[size_t(c[1])] || !member[size_t(c[2])] || !(mesh.face_areas[size_t(f)] > 0)) continue;
+            out.centroids.push_back((mesh.positions[size_t(c[0])] + mesh.positions[size_t(c[1])] + mesh.positions[size_t(c[2])]) / 3);
+            out.normals.push_back(mesh.face_normals[size_t(f)]);
+            out.areas.push_back(mesh.face_areas[size_t(f)]);
+        }
+    return out;
+}
+
+// The point of the line (p, d) nearest to q.
+Eigen::Vector3d nearest_on_line(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Eigen::Vector3d& q) {
+    return p + d * d.dot(q - p);
+}
+
+double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Eigen::Vector3d& q) {
+    return (q - nearest_on_line(p, d, q)).norm();
+}
+
+// One slippable motion: a translation when it hardly turns, a rotation about an axis
+// otherwise, or a screw when it also advances along the axis.
+void classify_single_motion(const Motion& m, const Eigen::Vector3d& centroid, double extent,
+                            const ContinuousFamilyOptions& options, ContinuousFamily& family) {
+    const double w = m.omega.norm();
+    // A rotation about an axis many patch radii away is indistinguishable from a translation.
+    if (w * extent < 0.1 * m.velocity(centroid).norm()) {
+        family.kind = ContinuousKind::Translational;
+        family.direction = m.v.normalized();
+        family.point = centroid;
+        return;
+    }
+    family.direction = m.omega / w;
+    const double advance_per_radian = m.omega.dot(m.v) / (w * w);
+    family.point = nearest_on_line(m.omega.cross(m.v) / (w * w), family.direction, centroid);
+    if (std::abs(advance_per_radian) > options.min_helical_pitch * extent) {
+        family.kind = ContinuousKind::Helical;
+        family.pitch = 2 * M_PI * advance_per_radian;
+    } else {
+        family.kind = ContinuousKind::Rotational;
+    }
+}
+
+// Least-squares centre x of rotations v_i = x × ω_i (each motion turns about x).
+Eigen::Vector3d common_centre(const std::vector<Motion>& motions) {
+    Eigen::MatrixXd A(3 * motions.size(), 3);
+    Eigen::VectorXd b(3 * motions.size());
+    for (size_t i = 0; i < motions.size(); ++i) {
+        const Eigen::Vector3d& w = motions[i].omega;
+        Eigen::Matrix3d cross;  // x × w = -[w]× x
+        cross << 0, w.z(), -w.y(), -w.z(), 0, w.x(), w.y(), -w.x(), 0;
+        A.block<3, 3>(3 * long(i), 0) = cross;
+        b.segment<3>(3 * long(i)) = motions[i].v;
+    }
+    return A.colPivHouseholderQr().solve(b);
+}
+
+}  // namespace
+
+ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, double tolerance,
+                                  const ContinuousFamilyOptions& options) {
+    ContinuousFamily family;
+    const PatchFaces faces = patch_faces(mesh, patch);
+    if (faces.areas.size() < 6) return family;
+    double total = 0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < faces.areas.size(); ++i) { total += faces.areas[i]; centroid += faces.areas[i] * faces.centroids[i]; }
+    centroid /= total;
+    double spread = 0;
+    for (size_t i = 0; i < faces.areas.size(); ++i) spread += faces.areas[i] * (faces.centroids[i] - centroid).squaredNorm();
+    const double extent = std::sqrt(spread / total);
+    if (!(extent > 0)) return family;
+    family.extent = extent;
+
+    // C = Σ a u uᵀ with u = [q × n; n] on the patch scaled to unit radius: uᵀ[ω; v] is the
+    // normal speed of the motion (ω, v) at the face, so C's small eigenvalues are the
+    // motions that slide the patch along itself.
+    Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
+    for (size_t i = 0; i < faces.areas.size(); ++i) {
+        Eigen::Matrix<double, 6, 1> u;
+        const Eigen::Vector3d q = (faces.centroids[i] - centroid) / extent;
+        u << q.cross(faces.normals[i]), faces.normals[i];
+        C += faces.areas[i] * u * u.transpose();
+    }
+    C /= total;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(C);
+    int slippable = 0;
+    while (slippable < 6 && std::sqrt(std::max(0.0, eigen.eigenvalues()(slippable))) <= options.max_slippage) ++slippable;
+    if (slippable == 0 || slippable > 3) return family;  // none, or a degenerate patch (a line, a point)
+
+    // Back to absolute coordinates: at p = c + extent·q the velocity ω × q + v̂ of the unit
+    // patch is extent·(ω × (p - c)/extent + v̂) = ω × p + (extent·v̂ - ω × c).
+    Eigen::Matrix3Xd rotations(3, slippable);
+    for (int i = 0; i < slippable; ++i) {
+        Eigen::Matrix<double, 6, 1> m = eigen.eigenvectors().col(i);
+        Motion motion;
+        motion.omega = m.head<3>();
+        motion.v = extent * m.tail<3>() - motion.omega.cross(centroid);
+        family.motions.push_back(motion);
+        rotations.col(i) = m.head<3>();
+    }
+    Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(rotations, Eigen::ComputeFullV);
+    int turning = 0;  // independent rotation axes among the slippable motions
+    for (int i = 0; i < svd.singularValues().size(); ++i) turning += svd.singularValues()(i) > 0.1;
+
+    if (slippable == 1) {
+        classify_single_motion(family.motions[0], centroid, extent, options, family);
+    } else if (slippable == 2 && turning == 1) {
+        // A rotation and a translation along its axis: a cylinder.
+        Eigen::Vector2d spin = svd.matrixV().col(0).head<2>();
+        Motion m;
+        m.omega = spin(0) * family.motions[0].omega + spin(1) * family.motions[1].omega;
+        m.v = spin(0) * family.motions[0].v + spin(1) * family.motions[1].v;
+        classify_single_motion(m, centroid, extent, options, family);
+        if (family.kind == ContinuousKind::Helical) family.pitch = 0;
+        family.kind = family.kind == ContinuousKind::Translational ? ContinuousKind::Translational : ContinuousKind::Rotational;
+        family.slides_along_axis = true;
+    } else if (slippable == 3 && turning == 1) {
+        // Two translations and a turn about the normal: a plane.
+        family.kind = ContinuousKind::Planar;
+        family.direction = (rotations * svd.matrixV().col(0)).normalized();
+        family.point = centroid;
+        for (const auto& c : faces.centroids)
+            if (std::abs(family.direction.dot(c - centroid)) > tolerance) return ContinuousFamily();
+    } else if (slippable == 3 && turning == 3) {
+        family.kind = ContinuousKind::Spherical;
+        family.point = common_centre(family.motions);
+        double r = 0;
+        for (size_t i = 0; i < faces.areas.size(); ++i) r += faces.areas[i] * (faces.centroids[i] - family.point).norm();
+        family.radius = r / total;
+        for (const auto& c : faces.centroids)
+            if (std::abs((c - family.point).norm() - family.radius) > tolerance) return ContinuousFamily();
+    } else {
+        return ContinuousFamily();
+    }
+    return family;
+}
+
+bool is_member(const ContinuousFamily& f, const Transformation& T, double tolerance, double degrees) {
+    const double parallel = cosine_of(degrees);
+    const Eigen::Vector3d image = (T.linear() * f.direction / T.scale);
+    switch (f.kind) {
+    case ContinuousKind::Discrete: return false;
+    case ContinuousKind::Rotational:
+    case ContinuousKind::Helical: {
+        const Eigen::Vector3d a = f.point, b = f.point + f.extent * f.direction;
+        if (distance_to_line(f.point, f.direction, T.apply(a)) > tolerance ||
+            distance_to_line(f.point, f.direction, T.apply(b)) > tolerance)
+            return false;  // the axis is not mapped onto itself
+        if (std::abs(image.dot(f.direction)) < parallel) return false;
+        if (f.kind == ContinuousKind::Helical || f.slides_along_axis) return true;
+        if (image.dot(f.direction) > 0) return std::abs((T.apply(a) - a).dot(f.direction)) <= tolerance;
+        // The axis flipped: a half-turn is the family composed with the mirror across the
+        // plane normal to the axis; that mirror itself (T² = I) is reported.
+        const Transformation twice = T * T;
+        const bool mirror_normal_to_axis = T.reflection && (twice.apply(a) - a).norm() <= tolerance &&
+                                           (twice.apply(b) - b).norm() <= tolerance &&
+                                           (twice.linear() - Eigen::Matrix3d::Identity()).norm() < 0.05;
+        return !mirror_normal_to_axis;
+    }
+    case ContinuousKind::Translational: {
+        if (std::abs(image.dot(f.direction)) < parallel) return false;
+        const Eigen::Vector3d shift = T.apply(f.point) - f.point;
+        return (shift - f.direction * f.direction.dot(shift)).norm() <= tolerance;
+    }
+    case ContinuousKind::Planar:
+        return std::abs(image.dot(f.direction)) >= parallel && std::abs(f.direction.dot(T.apply(f.point) - f.point)) <= tolerance;
+    case ContinuousKind::Spherical: return (T.apply(f.point) - f.point).norm() <= tolerance;
+    }
+    return false;
+}
+
+bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
+                 const ContinuousFamilyOptions& options) {
+    if (a.kind != b.kind || a.kind == ContinuousKind::Discrete) return false;
+    const double parallel = cosine_of(options.axis_agreement_degrees);
+    switch (a.kind) {
+    case ContinuousKind::Spherical:
+        return (a.point - b.point).norm() <= tolerance && std::abs(a.radius - b.radius) <= tolerance;
+    case ContinuousKind::Planar:
+        return std::abs(a.direction.dot(b.direction)) >= parallel && std::abs(a.direction.dot(b.point - a.point)) <= tolerance;
+    case ContinuousKind::Translational: {
+        if (std::abs(a.direction.dot(b.direction)) < parallel) return false;
+        // Parallel extrusions elsewhere are other families: the patches must meet.
+        std::vector<int> common;
+        std::set_intersection(a.vertices.begin(), a.vertices.end(), b.vertices.begin(), b.vertices.end(),
+                              std::back_inserter(common));
+        return !common.empty();
+    }
+    default:
+        return std::abs(a.direction.dot(b.direction)) >= parallel && distance_to_line(a.point, a.direction, b.point) <= tolerance;
+    }
+}
+
+std::vector<int> grow_family_patch(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,
+                                   const std::vector<int>& seeds, double tolerance,
+                                   const ContinuousFamilyOptions& options) {
+    const double max_sine = sine_of(options.tangency_degrees);
+    auto on_shape = [&](const Eigen::Vector3d& p) {
+        if (family.kind == ContinuousKind::Planar) return std::abs(family.direction.dot(p - family.point)) <= tolerance;
+        if (family.kind == ContinuousKind::Spherical) return std::abs((p - family.point).norm() - family.radius) <= tolerance;
+        return true;
+    };
+    // Some face around v is tangent to every generating motion at v.
+    auto tangent = [&](int v) {
+        const Eigen::Vector3d& p = mesh.positions[size_t(v)];
+        if (!on_shape(p)) return false;
+        for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k) {
+            const Eigen::Vector3d& n = mesh.face_normals[size_t(mesh.faces_around[size_t(k)])];
+            bool all = true;
+            for (const Motion& m : family.motions) {
+                const Eigen::Vector3d u = m.velocity(p);
+                // Near a rotation axis points hardly move: measure against the speed a
+                // tolerance away from it.
+                const double speed = std::max(u.norm(), m.omega.norm() * tolerance);
+                if (std::abs(n.dot(u)) > max_sine * speed) { all = false; break; }
+            }
+            if (all) return true;
+        }
+        return false;
+    };
+    std::vector<char> state(size_t(mesh.vertex_count()), 0);  // 1 in the patch, 2 rejected
+    std::deque<int> queue;
+    for (int s : seeds)
+        if (state[size_t(s)] == 0) {
+            state[size_t(s)] = tangent(s) ? 1 : 2;
+            if (state[size_t(s)] == 1) queue.push_back(s);
+        }
+    std::vector<int> patch(queue.begin(), queue.end());
+    while (!queue.empty()) {
+        int v = queue.front();
+        queue.pop_front();
+        for (int k = mesh.neighbour_offsets[v]; k < mesh.neighbour_offsets[v + 1]; ++k) {
+            int u = mesh.neighbours[size_t(k)];
+            if (state[size_t(u)]) continue;
+            state[size_t(u)] = tangent(u) ? 1 : 2;
+            if (state[size_t(u)] == 1) { patch.push_back(u); queue.push_back(u); }
+        }
+    }
+    std::sort(patch.begin(), patch.end());
+    return patch;
+}
+
+}  // namespace symmetry

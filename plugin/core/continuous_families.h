@@ -1,0 +1,103 @@
+// Continuous symmetries (beyond the paper, whose §6 names them as its limitation: "Continuous
+// symmetries, such as those found in rotational or helical surfaces, lead to smooth curves in
+// transformation space and are currently not detected by our method").
+//
+// A surface of revolution, a cylinder, an extrusion, a helix, a plane or a sphere maps onto
+// itself under a whole continuum of transformations, so its pairs vote all along a curve or
+// sheet of Γ and mean shift finds one mode after another on it: each verifies, and they fill
+// every result slot.  Here a verified candidate whose patch pair is slippable (Gelfand and
+// Guibas 2004: some rigid motion moves every point tangentially to the surface) and whose
+// transformation maps that motion's axis onto itself is recognised as one member of a
+// continuous family; the family is reported once, with its kind and axis, and the other
+// members are skipped without verification.
+#pragma once
+
+#include "region_growing.h"
+#include "transformation_space.h"
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace symmetry {
+
+/// The kinds of continuous symmetry, numbered as in the filter's `continuous_kinds` output.
+enum class ContinuousKind {
+    Discrete = 0,       ///< no continuous symmetry
+    Rotational = 1,     ///< surfaces of revolution, cones; a cylinder (whose translations run along the same axis)
+    Translational = 2,  ///< extrusions of a non-circular profile
+    Helical = 3,        ///< screws, helical tubes
+    Planar = 4,         ///< a flat patch
+    Spherical = 5       ///< a patch of a sphere
+};
+
+/// A rigid motion as a velocity field: velocity(p) = omega × p + v.
+struct Motion {
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    Eigen::Vector3d velocity(const Eigen::Vector3d& p) const { return omega.cross(p) + v; }
+};
+
+struct ContinuousFamily {
+    ContinuousKind kind = ContinuousKind::Discrete;
+    /// Rotational, helical: a point on the axis.  Planar: a point on the plane.  Spherical:
+    /// the centre.  Translational: the centroid of the patch.
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    /// The axis, the plane's normal or the translation direction (unit); zero for a sphere.
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+    double pitch = 0;              ///< helical: advance along the direction per full turn, absolute units
+    double radius = 0;             ///< spherical: the sphere's radius
+    double extent = 0;             ///< RMS distance of the patch from its centroid, absolute units
+    /// Rotational: the family also slides along its axis (a cylinder), so shifts along the
+    /// axis and flips of it are members too.
+    bool slides_along_axis = false;
+    std::vector<Motion> motions;   ///< the slippable motions that generate the family
+    std::vector<int> vertices;     ///< the family's patch, increasing mesh vertex indices
+};
+
+struct ContinuousFamilyOptions {
+    /// A motion is slippable when the RMS of its normal speed over the patch is below this
+    /// fraction of the speed of a unit motion of the patch normalised to unit radius: the
+    /// sine of the average angle at which the motion leaves the surface (0.05: about 3°).
+    double max_slippage = 0.05;
+    /// Helical rather than rotational when the advance along the axis per radian exceeds
+    /// this fraction of the patch's radius.
+    double min_helical_pitch = 0.02;
+    /// Region growing of a family's patch: the largest angle, in degrees, between a face
+    /// around a vertex and the direction in which each generating motion moves the vertex.
+    double tangency_degrees = 5;
+    /// Two families with axes (or normals) within this angle, in degrees, and within the
+    /// verification tolerance of each other are the same family.
+    double axis_agreement_degrees = 2;
+};
+
+/// Slippage analysis of a patch (Gelfand and Guibas 2004) and the family it belongs to,
+/// with kind Discrete when no motion is slippable.  `tolerance` bounds the distance to
+/// the plane (planar) or the sphere (spherical), which slippage alone cannot see.
+ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, double tolerance,
+                                  const ContinuousFamilyOptions& options);
+
+/// Whether T is one of the family's own members, which are not reported beside it:
+/// - rotational: rotations about the axis and reflections through planes containing it
+///   (T fixes the axis point by point), and the half-turns that flip the axis (a mirror
+///   across a plane normal to the axis, if there is one, is a discrete symmetry of its own);
+///   for a cylinder also every motion that maps the axis onto itself;
+/// - helical: every motion that maps the axis onto itself;
+/// - translational: motions that map the direction onto ± itself and move the patch's
+///   centroid along it only; planar: those mapping the plane onto itself; spherical:
+///   those fixing the centre.
+/// `tolerance` (absolute) and `degrees` are how far T may be from exact: the verification
+/// tolerance and axis_agreement_degrees for a refined T, more for a cluster's mode.
+bool is_member(const ContinuousFamily& family, const Transformation& T, double tolerance, double degrees);
+
+/// Whether two families are one: same kind, axes within the agreement angle and tolerance.
+bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
+                 const ContinuousFamilyOptions& options);
+
+/// The family's whole patch: grown over the mesh from `seeds` through every vertex around
+/// which some face is tangent to every generating motion (within tangency_degrees), and
+/// for a plane or a sphere lies on it within the tolerance.  Increasing indices.
+std::vector<int> grow_family_patch(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,
+                                   const std::vector<int>& seeds, double tolerance,
+                                   const ContinuousFamilyOptions& options);
+
+}  // namespace symmetry

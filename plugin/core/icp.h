@@ -1,0 +1,48 @@
+// Stage 7b (§4): "we incrementally refine T_k during the patch growing using the
+// iterated closest points (ICP) algorithm [Rusinkiewicz and Levoy 2001]", staying
+// inside the transformation group the user asked for.
+#pragma once
+
+#include "surface_query.h"
+#include "transformation_space.h"
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace symmetry {
+
+struct IcpOptions {
+    /// Fewest matched points an ICP step is fitted to: a patch of a few hundred vertices
+    /// pins down every degree of freedom; fitted on fewer, ICP follows a small patch's noise.
+    int min_points = 256;
+    int iterations = 20;               ///< iterations of the final refinement of a patch
+    int iterations_while_growing = 2;  ///< per refit while a patch grows (each starts from the last)
+    int max_points = 1500;             ///< a stride keeps each iteration to about this many points
+    /// Closest points are searched within this many verification tolerances.
+    double search_radius_in_tolerances = 2;
+    /// Stop when no point moved more than this fraction of the tolerance in an iteration.
+    double convergence_in_tolerances = 1e-3;
+};
+
+/// The transformation of `group` that best maps `source` onto `target` in the least-squares
+/// sense: Umeyama for rigid and similarity (through the fixed mirror when `reflection`), a
+/// plane fit for mirrors, the mean offset for translations.
+Transformation fit_transformation(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
+                                  TransformationGroup group, bool reflection);
+
+struct IcpResult {
+    Transformation transform;
+    bool refitted = false;   ///< false when too few points matched to fit anything
+    double rms = 0;          ///< RMS distance of the matched points after the last fit
+    int matched = 0;         ///< points with a closest point within the search radius
+};
+
+/// ICP of `points` (source positions) onto the surface, starting from `start`.
+/// Point-to-plane steps for the rigid and similarity groups (point-to-point steps crawl
+/// along directions in which the surface nearly slides onto itself), the group's own
+/// least-squares fit for mirrors and translations.
+IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const SurfaceQuery& surface,
+                        const Transformation& start, TransformationGroup group, double tolerance, int iterations,
+                        const IcpOptions& options);
+
+}  // namespace symmetry

@@ -1,0 +1,152 @@
+#include "region_growing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace symmetry {
+
+namespace {
+Eigen::Vector3d to_eigen(const vcg::Point3d& p) { return {p[0], p[1], p[2]}; }
+
+// Compressed rows from per-vertex lists, each list sorted and without repeats.
+void compress(std::vector<std::vector<int>>& lists, std::vector<int>& offsets, std::vector<int>& items) {
+    offsets.assign(1, 0);
+    offsets.reserve(lists.size() + 1);
+    for (auto& l : lists) {
+        std::sort(l.begin(), l.end());
+        l.erase(std::unique(l.begin(), l.end()), l.end());
+        items.insert(items.end(), l.begin(), l.end());
+        offsets.push_back(int(items.size()));
+    }
+}
+}  // namespace
+
+MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
+    MeshNeighbourhoods n;
+    const size_t nv = mesh.vert.size();
+    n.positions.resize(nv);
+    for (size_t v = 0; v < nv; ++v) n.positions[v] = to_eigen(mesh.vert[v].cP());
+    std::vector<std::vector<int>> around(nv), faces_of(nv);
+    n.faces.assign(mesh.face.size(), {-1, -1, -1});
+    n.face_normals.assign(mesh.face.size(), Eigen::Vector3d::Zero());
+    n.face_areas.assign(mesh.face.size(), 0.0);
+    for (size_t f = 0; f < mesh.face.size(); ++f) {
+        const Face& face = mesh.face[f];
+        if (face.IsD()) continue;
+        for (int k = 0; k < 3; ++k) n.faces[f][k] = int(vcg::tri::Index(mesh, face.cV(k)));
+        const auto& c = n.faces[f];
+        Eigen::Vector3d cross = (n.positions[c[1]] - n.positions[c[0]]).cross(n.positions[c[2]] - n.positions[c[0]]);
+        n.face_areas[f] = 0.5 * cross.norm();
+        if (n.face_areas[f] > 0) n.face_normals[f] = cross.normalized();
+        for (int k = 0; k < 3; ++k) {
+            around[c[k]].push_back(c[(k + 1) % 3]);
+            around[c[k]].push_back(c[(k + 2) % 3]);
+            faces_of[c[k]].push_back(int(f));
+        }
+    }
+    compress(around, n.neighbour_offsets, n.neighbours);
+    compress(faces_of, n.face_offsets, n.faces_around);
+    return n;
+}
+
+double median_edge_length(const MeshNeighbourhoods& mesh) {
+    std::vector<double> lengths;
+    lengths.reserve(mesh.neighbours.size() / 2);
+    for (int v = 0; v < mesh.vertex_count(); ++v)
+        for (int k = mesh.neighbour_offsets[v]; k < mesh.neighbour_offsets[v + 1]; ++k)
+            if (mesh.neighbours[size_t(k)] > v)
+                lengths.push_back((mesh.positions[size_t(mesh.neighbours[size_t(k)])] - mesh.positions[size_t(v)]).norm());
+    if (lengths.empty()) return 0;
+    std::nth_element(lengths.begin(), lengths.begin() + long(lengths.size() / 2), lengths.end());
+    return lengths[lengths.size() / 2];
+}
+
+double patch_area(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, const std::vector<char>& member) {
+    double area = 0;
+    for (int v : vertices)
+        for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k) {
+            const auto& c = mesh.faces[size_t(mesh.faces_around[k])];
+            // Each face is counted once, from its first corner.
+            if (c[0] == v && member[size_t(c[1])] && member[size_t(c[2])]) area += mesh.face_areas[size_t(mesh.faces_around[k])];
+        }
+    return area;
+}
+
+RegionGrower::RegionGrower(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
+                           const RegionGrowingOptions& options)
+    : mesh_(mesh), surface_(surface), tolerance_(options.tolerance),
+      min_normal_cosine_(std::cos(options.normal_agreement_degrees * M_PI / 180.0)),
+      state_(size_t(mesh.vertex_count()), kUntried), deviation_(size_t(mesh.vertex_count()), 0.0),
+      landing_face_(size_t(mesh.vertex_count()), -1) {}
+
+bool RegionGrower::accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces) {
+    ClosestPoint cp = surface_.closest(T.apply(mesh_.positions[size_t(v)]), tolerance_);
+    if (!cp.found) return false;
+    if (allowed_faces && !(*allowed_faces)[size_t(cp.face)]) return false;
+    bool agrees = false;
+    for (int k = mesh_.face_offsets[v]; k < mesh_.face_offsets[v + 1] && !agrees; ++k)
+        agrees = T.apply_to_normal(mesh_.face_normals[size_t(mesh_.faces_around[k])]).dot(cp.normal) >= min_normal_cosine_;
+    if (!agrees) return false;
+    deviation_[size_t(v)] = cp.signed_distance;
+    landing_face_[size_t(v)] = cp.face;
+    return true;
+}
+
+std::vector<int> RegionGrower::grow(int seed, Transformation& T, const std::vector<char>* allowed_faces,
+                                    const Refit& refit, bool& hopeless) {
+    hopeless = false;
+    std::vector<int> patch;
+    if (state_[size_t(seed)] != kUntried) return patch;
+    if (!accepts(seed, T, allowed_faces)) {
+        state_[size_t(seed)] = kRejected;
+        return patch;
+    }
+    std::deque<int> queue{seed};
+    std::vector<int> rejected;  // the border, retried after a refit
+    state_[size_t(seed)] = kInPatch;
+    patch.push_back(seed);
+    size_t next_refit = 1;
+    auto admit = [&](int u) {
+        state_[size_t(u)] = kInPatch;
+        patch.push_back(u);
+        queue.push_back(u);
+    };
+    while (!queue.empty()) {
+        const int v = queue.front();
+        queue.pop_front();
+        for (int k = mesh_.neighbour_offsets[v]; k < mesh_.neighbour_offsets[v + 1]; ++k) {
+            const int u = mesh_.neighbours[size_t(k)];
+            if (state_[size_t(u)] != kUntried) continue;
+            if (accepts(u, T, allowed_faces)) {
+                admit(u);
+            } else {
+                state_[size_t(u)] = kRejected;
+                rejected.push_back(u);
+            }
+        }
+        if (!refit || patch.size() < 2 * next_refit) continue;
+        next_refit = patch.size();
+        RefitOutcome outcome = refit(patch, T);
+        if (outcome == RefitOutcome::Hopeless) {
+            hopeless = true;
+            return patch;
+        }
+        if (outcome != RefitOutcome::Refitted) continue;
+        // The border rejected under the old transformation may match now.
+        std::vector<int> still_rejected;
+        for (int u : rejected) {
+            if (state_[size_t(u)] != kRejected) continue;
+            if (accepts(u, T, allowed_faces)) admit(u);
+            else still_rejected.push_back(u);
+        }
+        rejected.swap(still_rejected);
+    }
+    return patch;
+}
+
+void RegionGrower::forbid(const std::vector<int>& patch) {
+    for (int v : patch) state_[size_t(v)] = kRejected;
+}
+
+}  // namespace symmetry

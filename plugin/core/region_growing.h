@@ -1,0 +1,96 @@
+// Stage 7a (§4): one side of a symmetric patch pair, grown over the mesh from a seed
+// vertex: "we look at the one-ring neighbors of p_i, apply T_k, and check whether the
+// distance of the transformed points to the surface around p_j is below a given error
+// threshold.  If so, we add them to the current patch."
+#pragma once
+
+#include "mesh.h"
+#include "surface_query.h"
+#include "transformation_space.h"
+
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <vector>
+
+namespace symmetry {
+
+/// The mesh as region growing walks it, read once per mesh: vertex positions, the
+/// vertices and faces around every vertex (compressed rows), and per-face data.
+struct MeshNeighbourhoods {
+    std::vector<Eigen::Vector3d> positions;
+    std::vector<int> neighbour_offsets, neighbours;  ///< neighbours of v: [offsets[v], offsets[v+1])
+    std::vector<int> face_offsets, faces_around;     ///< faces with v as a corner, same layout
+    std::vector<std::array<int, 3>> faces;           ///< corners of every face (deleted faces: -1)
+    std::vector<Eigen::Vector3d> face_normals;       ///< unit, outward
+    std::vector<double> face_areas;
+
+    int vertex_count() const { return int(positions.size()); }
+};
+MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh);
+
+/// The median length of the mesh's edges.
+double median_edge_length(const MeshNeighbourhoods& mesh);
+
+/// Area of the faces whose three corners are all in `vertices` (flagged in `member`).
+/// Visits only the faces around those vertices, so it costs O(|vertices|), not O(F).
+double patch_area(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, const std::vector<char>& member);
+
+struct RegionGrowingOptions {
+    double tolerance = 0;  ///< largest distance of T(v) to the surface, absolute units
+    /// Largest angle, in degrees, between T's image of a face normal around v and the
+    /// normal of the surface where T(v) lands.  Normals must agree as well as positions,
+    /// or a thin plate's two sides, or a surface crossing another, would match.
+    double normal_agreement_degrees = 45;
+};
+
+/// What a refit between growth steps reports (see RegionGrower::grow).
+enum class RefitOutcome { Unchanged, Refitted, Hopeless };
+
+/// The state of one side of one candidate symmetry: which vertices are in a patch,
+/// which were tried and rejected, and for each accepted vertex its signed deviation
+/// and the face its image landed on.
+class RegionGrower {
+public:
+    RegionGrower(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const RegionGrowingOptions& options);
+
+    /// Whether T maps vertex v onto the surface: T(v) lies within the tolerance of it,
+    /// and T maps the normal of at least one face around v onto the normal where T(v)
+    /// lands.  One face suffices so that growth crosses sharp creases, where the vertex
+    /// normal is an average that agrees with neither side.  With `allowed_faces`, T(v)
+    /// must also land on one of those faces.  Records the deviation and landing face.
+    bool accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces);
+
+    /// Called with the patch so far each time it has doubled; may refine T in place.
+    using Refit = std::function<RefitOutcome(const std::vector<int>& patch, Transformation& T)>;
+
+    /// Breadth-first growth from `seed` over mesh edges.  After a refit the border
+    /// rejected under the old transformation is tried again.  Returns the patch (empty
+    /// if the seed itself fails or is already in a patch); sets `hopeless` when a refit
+    /// said so, in which case the patch is returned as grown so far.
+    std::vector<int> grow(int seed, Transformation& T, const std::vector<char>* allowed_faces, const Refit& refit,
+                          bool& hopeless);
+
+    /// Marks the vertices of a rejected component as tried, so that later seeds inside
+    /// it do not grow it again (they start from the same transformation and would).
+    void forbid(const std::vector<int>& patch);
+
+    bool in_patch(int v) const { return state_[size_t(v)] == kInPatch; }
+    bool tried(int v) const { return state_[size_t(v)] != kUntried; }
+    double deviation(int v) const { return deviation_[size_t(v)]; }
+    /// Per mesh vertex: the signed deviation recorded when it was last accepted.
+    const std::vector<double>& deviations() const { return deviation_; }
+    int landing_face(int v) const { return landing_face_[size_t(v)]; }
+
+private:
+    enum : char { kUntried = 0, kInPatch = 1, kRejected = 2 };
+    const MeshNeighbourhoods& mesh_;
+    const SurfaceQuery& surface_;
+    double tolerance_;
+    double min_normal_cosine_;
+    std::vector<char> state_;
+    std::vector<double> deviation_;
+    std::vector<int> landing_face_;
+};
+
+}  // namespace symmetry
