@@ -1,6 +1,7 @@
 #include "continuous_families.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -198,6 +199,36 @@ bool is_member(const ContinuousFamily& f, const Transformation& T, double tolera
     return false;
 }
 
+ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness) {
+    ContinuousFamily family;
+    const double largest = std::max(std::abs(sample.kappa1), std::abs(sample.kappa2));
+    if (largest * radius < flatness) {
+        family.kind = ContinuousKind::Planar;
+        family.point = sample.position;
+        family.direction = sample.normal;
+        family.extent = radius;
+        Motion a, b, turn;
+        a.v = sample.direction1;
+        b.v = sample.direction2;
+        turn.omega = sample.normal;
+        turn.v = -sample.normal.cross(sample.position);
+        family.motions = {a, b, turn};
+    } else {
+        const double mean = 0.5 * (sample.kappa1 + sample.kappa2);
+        family.kind = ContinuousKind::Spherical;
+        family.radius = 1 / std::abs(mean);
+        family.point = sample.position - sample.normal / mean;  // the outward normal points away from a convex centre
+        family.extent = radius;
+        for (const Eigen::Vector3d& axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()}) {
+            Motion m;
+            m.omega = axis;
+            m.v = -axis.cross(family.point);
+            family.motions.push_back(m);
+        }
+    }
+    return family;
+}
+
 bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
                  const ContinuousFamilyOptions& options) {
     if (a.kind != b.kind || a.kind == ContinuousKind::Discrete) return false;
@@ -218,6 +249,76 @@ bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double to
     default:
         return std::abs(a.direction.dot(b.direction)) >= parallel && distance_to_line(a.point, a.direction, b.point) <= tolerance;
     }
+}
+
+namespace {
+
+Transformation rotation_about(const Eigen::Vector3d& point, const Eigen::Vector3d& axis, double angle, double advance) {
+    Transformation t;
+    t.rotation = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+    t.translation = point - t.rotation * point + advance * axis;
+    return t;
+}
+
+Transformation shift(const Eigen::Vector3d& by) {
+    Transformation t;
+    t.translation = by;
+    return t;
+}
+
+// Finite members of the family that move its patch well beyond the tolerance.
+std::vector<Transformation> finite_members(const ContinuousFamily& f) {
+    std::vector<Transformation> members;
+    const double degrees[] = {45, 90, 180};
+    Eigen::Vector3d u = f.direction.unitOrthogonal(), w = f.direction.cross(u);
+    switch (f.kind) {
+    case ContinuousKind::Rotational:
+    case ContinuousKind::Helical:
+        for (double d : degrees) members.push_back(rotation_about(f.point, f.direction, d * M_PI / 180, f.pitch * d / 360));
+        break;
+    case ContinuousKind::Translational:
+        for (double s : {0.25, 0.5}) members.push_back(shift(s * f.extent * f.direction));
+        break;
+    case ContinuousKind::Planar:
+        members.push_back(shift(0.25 * f.extent * u));
+        members.push_back(shift(0.25 * f.extent * w));
+        members.push_back(rotation_about(f.point, f.direction, M_PI / 2, 0));
+        break;
+    case ContinuousKind::Spherical:
+        for (const Eigen::Vector3d& axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()})
+            members.push_back(rotation_about(f.point, axis, M_PI / 2, 0));
+        break;
+    case ContinuousKind::Discrete: break;
+    }
+    return members;
+}
+
+}  // namespace
+
+FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
+                          double tolerance) {
+    FamilyCheck check;
+    check.deviation.assign(family.vertices.size(), 0.0);
+    std::vector<double> best(family.vertices.size(), INFINITY);
+    const std::vector<Transformation> members = finite_members(family);
+    if (members.empty() || family.vertices.empty()) return check;
+    double coverage = 0;
+    int most = -1;
+    for (const Transformation& T : members) {
+        int landed = 0;
+        for (size_t i = 0; i < family.vertices.size(); ++i) {
+            const int v = family.vertices[i];
+            ClosestPoint cp = surface.closest(T.apply(mesh.positions[size_t(v)]), tolerance);
+            if (!cp.found) continue;
+            ++landed;
+            if (std::abs(cp.signed_distance) < std::abs(best[i])) best[i] = cp.signed_distance;
+        }
+        coverage += double(landed) / double(family.vertices.size());
+        if (landed > most) { most = landed; check.best_member = T; }
+    }
+    check.coverage = coverage / double(members.size());
+    for (size_t i = 0; i < best.size(); ++i) check.deviation[i] = std::isfinite(best[i]) ? best[i] : 0.0;
+    return check;
 }
 
 std::vector<int> grow_family_patch(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,

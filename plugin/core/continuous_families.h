@@ -13,6 +13,8 @@
 #pragma once
 
 #include "region_growing.h"
+#include "signatures.h"
+#include "surface_query.h"
 #include "transformation_space.h"
 
 #include <Eigen/Core>
@@ -68,6 +70,19 @@ struct ContinuousFamilyOptions {
     /// Two families with axes (or normals) within this angle, in degrees, and within the
     /// verification tolerance of each other are the same family.
     double axis_agreement_degrees = 2;
+    /// A family is reported only when its patch maps onto the surface under finite members
+    /// (rotations by 45°, 90° and 180°; shifts by a quarter and a half of the patch's
+    /// radius) for at least this fraction of its vertices, on average over the members.
+    /// Slippage is a first-order, local property: a quarter-cylinder fillet or a scan's
+    /// roughly tubular ear is slippable but not a rotational symmetry.  (Its members are
+    /// still not reported as discrete symmetries.)
+    double min_member_coverage = 0.6;
+    /// A discrete symmetry whose patch lies on continuous families for at least this share
+    /// of its vertices...
+    double min_family_share = 0.9;
+    /// ...is reported only if it covers at least this fraction of every family it touches
+    /// (see drop_partial_family_relations in detection.cpp).
+    double min_family_coverage = 0.8;
 };
 
 /// Slippage analysis of a patch (Gelfand and Guibas 2004) and the family it belongs to,
@@ -89,9 +104,26 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
 /// tolerance and axis_agreement_degrees for a refined T, more for a cluster's mode.
 bool is_member(const ContinuousFamily& family, const Transformation& T, double tolerance, double degrees);
 
+/// The family a sample that umbilic pruning (§2.1) discarded suggests: the plane through
+/// it for a flat sample (largest |κ| r below `flatness`), else the sphere of its mean
+/// curvature.  Its patch is left empty, to be grown (grow_family_patch) and refined
+/// (slippable_family on the grown patch).
+ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness);
+
 /// Whether two families are one: same kind, axes within the agreement angle and tolerance.
 bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
                  const ContinuousFamilyOptions& options);
+
+/// How a family's finite members map its patch onto the surface.
+struct FamilyCheck {
+    double coverage = 0;                 ///< fraction of the patch mapped within the tolerance, mean over members
+    Transformation best_member;          ///< the member that maps most of the patch (the family's representative)
+    std::vector<double> deviation;       ///< per patch vertex: the smallest signed deviation under a member (0: none lands)
+};
+
+/// Applies finite members of the family (see min_member_coverage) to its patch.
+FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
+                          double tolerance);
 
 /// The family's whole patch: grown over the mesh from `seeds` through every vertex around
 /// which some face is tangent to every generating motion (within tangency_degrees), and

@@ -75,9 +75,48 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
     }
 }
 
+// The dimension of Γ for the group: the degrees of freedom of its transformations.
+int group_dimension(TransformationGroup group) {
+    switch (group) {
+    case TransformationGroup::Rigid: return 6;
+    case TransformationGroup::Similarity: return 7;
+    case TransformationGroup::Reflections: return 3;   // a plane
+    case TransformationGroup::Translations: return 3;
+    }
+    return 6;
+}
+
+// n' = |P'|: the user's, or the Appendix's bound for patches of min_patch_area (μ measured
+// by pairing a pilot subset with a generator of its own, so the main sequence is the same
+// whatever the pilot drew), lowered to keep μ n' within max_transformation_points.
+int pair_sample_count(const std::vector<SurfaceSignature>& P, const DetectionOptions& options, double radius,
+                      const std::mt19937_64& rng, DetectionResult& result) {
+    const int n = int(P.size());
+    if (options.pair_sample_count > 0) return options.pair_sample_count;
+    result.pair_sample_count_automatic = true;
+    std::mt19937_64 pilot_rng = rng;
+    pilot_rng.discard(1);
+    const int pilot = std::min(n, options.sample_size.pilot_samples);
+    std::vector<SignaturePair> pairs = pair_in_signature_space(P, options.group, radius, options.signature_tolerance,
+                                                               pilot, 2 * radius, pilot_rng, options.pairing);
+    size_t points = 0;
+    for (const SignaturePair& pair : pairs)
+        points += transformations_from_frames(P[size_t(pair.first)], P[size_t(pair.second)], options.group).size();
+    const double mu = std::max(1.0, double(points) / std::max(1, pilot));
+    result.partners_per_sample = mu;
+    result.pair_sample_size = appendix_sample_size(n, std::max(options.min_patch_area, 1e-4), mu,
+                                                   group_dimension(options.group),
+                                                   options.sample_size.transformation_space_extent /
+                                                       options.cluster_bandwidth,
+                                                   1 - options.sample_size.confidence);
+    const int budget = std::max(1, int(options.max_transformation_points / mu));
+    return std::max(1, std::min(result.pair_sample_size.n_prime, budget));
+}
+
 // §2.2: the pairs of samples with similar signatures, and their points in Γ.
 struct Votes {
     std::vector<SurfaceSignature> P;   // pruned samples with signatures
+    std::vector<SurfaceSignature> discarded;  // the umbilic and flat samples pruning took out
     std::vector<SignaturePair> pairs;
     std::vector<Transformation> points;
     std::vector<int> pair_of_point;
@@ -88,7 +127,14 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
     Votes votes;
     auto start = Clock::now();
     std::vector<SurfaceSample> samples = uniform_area_sampling(model.analysed(), options.sample_count, rng);
-    votes.P = prune_umbilics(compute_signatures(model.analysed(), samples, radius), options.umbilic_ratio, radius);
+    for (SurfaceSignature& s : compute_signatures(model.analysed(), samples, radius))
+        (has_distinct_principal_curvatures(s, options.umbilic_ratio, radius) ? votes.P : votes.discarded).push_back(s);
+    const CurvatureEstimator curvature(model.analysed());
+    for (SurfaceSignature& s : votes.P) {
+        const SurfaceSignature coarse = curvature.at({s.position, s.face}, 2 * radius);
+        s.coarse_kappa1 = coarse.kappa1;
+        s.coarse_kappa2 = coarse.kappa2;
+    }
     result.samples = int(samples.size());
     result.pruned_samples = int(votes.P.size());
     result.seconds_signatures = seconds_since(start);
@@ -96,8 +142,9 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
     // Pairs closer than the curvature ball share their neighbourhood and only vote for
     // the identity.
     start = Clock::now();
-    votes.pairs = pair_in_signature_space(votes.P, options.group, radius, options.signature_tolerance,
-                                          options.pair_sample_count, 2 * radius, rng);
+    const int n_prime = pair_sample_count(votes.P, options, radius, rng, result);
+    votes.pairs = pair_in_signature_space(votes.P, options.group, radius, options.signature_tolerance, n_prime,
+                                          2 * radius, rng, options.pairing);
     for (size_t k = 0; k < votes.pairs.size(); ++k)
         for (const Transformation& t :
              transformations_from_frames(votes.P[votes.pairs[k].first], votes.P[votes.pairs[k].second], options.group)) {
@@ -105,6 +152,7 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
             votes.pair_of_point.push_back(int(k));
         }
     result.pairs = int(votes.pairs.size());
+    result.pairs_sample_count_used = std::min(n_prime, int(votes.P.size()));
     result.transformation_points = int(votes.points.size());
     result.seconds_pairing = seconds_since(start);
     return votes;
@@ -170,7 +218,6 @@ struct Found {
 struct Findings {
     std::vector<Found> discrete;
     std::vector<ContinuousFamily> families;
-    std::vector<VerifiedSymmetry> family_members;  // the member each family was recognised from
     std::vector<int> family_support;               // votes of its members
 };
 
@@ -215,6 +262,7 @@ public:
         vo_ = options.verification;
         vo_.tolerance = options.verification_tolerance * model.diagonal;
         vo_.min_patch_area = options.min_patch_area * model.total_area;
+        vo_.large_patch_area = 0.5 * model.total_area;
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;
         vo_.group = options.group;
@@ -260,6 +308,61 @@ public:
                 is_member(family, votes_.points[v], mode_slack_distance_, mode_slack_degrees_))
                 out.push_back(int(v));
         return out;
+    }
+
+    /// The planar and spherical patches around the samples umbilic pruning discarded
+    /// (§2.1): their pairs would trace curves in Γ, so they never vote, and these families
+    /// are grown directly: the plane or sphere a discarded sample suggests, grown over the
+    /// mesh, refined by slippage, kept when large enough.
+    void add_families_of_discarded_samples() {
+        std::vector<char> covered(size_t(mesh_.vertex_count()), 0);
+        std::vector<char> scratch(size_t(mesh_.vertex_count()), 0);
+        for (const SurfaceSignature& sample : votes_.discarded) {
+            const int seed = seed_vertex(model_.analysed(), sample);
+            if (covered[size_t(seed)]) continue;
+            ContinuousFamily family = family_of_pruned_sample(sample, model_.radius, kFlatness);
+            family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, options_.continuous);
+            covered[size_t(seed)] = 1;
+            for (int v : family.vertices) covered[size_t(v)] = 1;
+            for (int v : family.vertices) scratch[size_t(v)] = 1;
+            const double area = patch_area(mesh_, family.vertices, scratch);
+            for (int v : family.vertices) scratch[size_t(v)] = 0;
+            if (area < vo_.min_patch_area) continue;
+            ContinuousFamily refined = slippable_family(mesh_, family.vertices, vo_.tolerance, options_.continuous);
+            if (refined.kind != family.kind) continue;
+            refined.vertices = grow_family_patch(mesh_, refined, family.vertices, vo_.tolerance, options_.continuous);
+            for (int v : refined.vertices) covered[size_t(v)] = 1;
+            record_family(std::move(refined), 0);
+        }
+    }
+
+    /// A discrete symmetry whose patches lie on continuous families but cover some of them
+    /// only in part (a box face's strip turned onto the next face, a cylinder shifted along
+    /// itself) is a family member composed with another: not reported.  One that maps whole
+    /// families onto whole families (a box's mirror, a copy of a cylinder) is.  Applied once
+    /// every family is known.
+    void drop_partial_family_relations() {
+        auto partial = [&](const std::vector<int>& patch) {
+            if (patch.empty()) return false;
+            std::vector<int> inside(findings_.families.size(), 0);
+            size_t on_families = 0;
+            for (int v : patch) {
+                bool on = false;
+                for (size_t k = 0; k < findings_.families.size(); ++k)
+                    if (family_flags_[k][size_t(v)]) { ++inside[k]; on = true; }
+                on_families += on;
+            }
+            if (double(on_families) < options_.continuous.min_family_share * double(patch.size())) return false;
+            for (size_t k = 0; k < findings_.families.size(); ++k)
+                if (inside[k] > 0.05 * double(patch.size()) &&
+                    inside[k] < options_.continuous.min_family_coverage * double(findings_.families[k].vertices.size()))
+                    return true;
+            return false;
+        };
+        std::vector<Found> kept;
+        for (auto& f : findings_.discrete)
+            if (!partial(f.symmetry.source_vertices) && !partial(f.symmetry.target_vertices)) kept.push_back(std::move(f));
+        findings_.discrete.swap(kept);
     }
 
     Findings take_findings(DetectionResult& result) {
@@ -335,7 +438,7 @@ private:
         if (family.kind != ContinuousKind::Discrete) {
             family.vertices = grow_family_patch(mesh_, family, both, vo_.tolerance, options_.continuous);
             const bool member = is_member(family, s.transform, vo_.tolerance, options_.continuous.axis_agreement_degrees);
-            record_family(std::move(family), s, support);
+            record_family(std::move(family), support);
             if (member) return;
         }
         for (auto& f : findings_.discrete)
@@ -351,7 +454,7 @@ private:
     }
 
     // A family found twice (two members of one surface of revolution) is one family.
-    void record_family(ContinuousFamily family, const VerifiedSymmetry& member, int support) {
+    void record_family(ContinuousFamily family, int support) {
         for (size_t k = 0; k < findings_.families.size(); ++k)
             if (same_family(findings_.families[k], family, vo_.tolerance, options_.continuous)) {
                 auto& known = findings_.families[k].vertices;
@@ -365,7 +468,6 @@ private:
             }
         family_flags_.push_back(flags(mesh_.vertex_count(), family.vertices));
         findings_.families.push_back(std::move(family));
-        findings_.family_members.push_back(member);
         findings_.family_support.push_back(support);
     }
 
@@ -417,6 +519,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     report(60, "Verification by region growing");
     start = Clock::now();
     Verifier verifier(model, votes, space, options);
+    verifier.add_families_of_discarded_samples();
     double reclustering = 0;
     for (size_t i = 0; i < candidates.size() && !verifier.done(max_verified); ++i) {
         if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
@@ -431,6 +534,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
         reclustering += seconds;
         i = size_t(-1);  // from the top: what was verified already is skipped as tried
     }
+    verifier.drop_partial_family_relations();
     result.seconds_verification = seconds_since(start) - reclustering;
     return verifier.take_findings(result);
 }
@@ -458,23 +562,22 @@ void measure_on_input(const Model& model, double tolerance, VerifiedSymmetry& s)
     s.rms_error = s.source_deviation.empty() ? 0 : std::sqrt(sum / double(s.source_deviation.size()));
 }
 
-// A continuous family reported as a symmetry: its patch on both sides, the member it was
-// recognised from as its transformation, and that member's deviation where it holds.
-VerifiedSymmetry family_as_symmetry(const ContinuousFamily& family, const VerifiedSymmetry& member,
-                                    const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, double tolerance) {
+// A continuous family reported as a symmetry: its patch on both sides, the finite member
+// that maps most of it as its transformation, and per vertex the deviation under the
+// member that maps the vertex best (see check_members).
+VerifiedSymmetry family_as_symmetry(const ContinuousFamily& family, const FamilyCheck& check,
+                                    const MeshNeighbourhoods& mesh) {
     VerifiedSymmetry s;
-    s.transform = member.transform;
+    s.transform = check.best_member;
     s.source_vertices = family.vertices;
     s.target_vertices = family.vertices;
+    s.source_deviation = check.deviation;
+    s.target_deviation = check.deviation;
     double sum = 0;
-    for (int v : family.vertices) {
-        ClosestPoint cp = surface.closest(member.transform.apply(mesh.positions[size_t(v)]), tolerance);
-        const double d = cp.found ? cp.signed_distance : 0;  // a partial arc the member moves off itself
-        s.source_deviation.push_back(d);
+    for (double d : check.deviation) {
         sum += d * d;
         s.max_error = std::max(s.max_error, std::abs(d));
     }
-    s.target_deviation = s.source_deviation;
     s.rms_error = family.vertices.empty() ? 0 : std::sqrt(sum / double(family.vertices.size()));
     std::vector<char> member_flags = flags(mesh.vertex_count(), family.vertices);
     s.source_area = patch_area(mesh, family.vertices, member_flags);
@@ -512,8 +615,9 @@ void DetectionOptions::validate() const {
     int g = int(group);
     require(g >= 0 && g <= 3, "transformation_group", g, "0, 1, 2 or 3");
     require(sample_count >= 100 && sample_count <= 5000000, "sample_count", sample_count, "between 100 and 5,000,000");
-    require(pair_sample_count >= 1 && pair_sample_count <= 5000000, "pair_sample_count", pair_sample_count,
-            "between 1 and 5,000,000");
+    require(pair_sample_count >= 0 && pair_sample_count <= 5000000, "pair_sample_count", pair_sample_count,
+            "between 0 (automatic) and 5,000,000");
+    require(max_transformation_points >= 1000, "max_transformation_points", max_transformation_points, "at least 1000");
     require(curvature_radius > 0 && curvature_radius <= 0.5, "curvature_radius", curvature_radius,
             "greater than 0 and at most half the bounding-box diagonal");
     require(umbilic_ratio > 0 && umbilic_ratio < 1, "umbilic_ratio", umbilic_ratio, "strictly between 0 and 1");
@@ -565,11 +669,16 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
         supports.push_back(f.support);
         family_of.push_back(nullptr);
     }
-    for (size_t k = 0; k < findings.families.size() && int(k) < options.max_symmetries; ++k) {
-        reported.push_back(family_as_symmetry(findings.families[k], findings.family_members[k], neighbourhoods,
-                                              analysed_surface, tolerance));
+    // A family is reported when its finite members hold; a merely slippable patch (a
+    // fillet, a tubular ear) only keeps its members from being reported.
+    int families = 0;
+    for (size_t k = 0; k < findings.families.size() && families < options.max_symmetries; ++k) {
+        const FamilyCheck check = check_members(neighbourhoods, analysed_surface, findings.families[k], tolerance);
+        if (check.coverage < options.continuous.min_member_coverage) continue;
+        reported.push_back(family_as_symmetry(findings.families[k], check, neighbourhoods));
         supports.push_back(findings.family_support[k]);
         family_of.push_back(&findings.families[k]);
+        ++families;
     }
     result.seconds_verification += seconds_since(start);
 

@@ -8,6 +8,8 @@
 #include "curvature_agreement.h"
 #include "denoising.h"
 #include "mesh.h"
+#include "pairing.h"
+#include "sample_size.h"
 #include "transformation_space.h"
 #include "verification.h"
 
@@ -23,7 +25,12 @@ namespace symmetry {
 struct DetectionOptions {
     TransformationGroup group = TransformationGroup::Rigid;
     int sample_count = 10000;           ///< |initial samples| before pruning (§5)
-    int pair_sample_count = 1500;       ///< |P'|, samples paired against all of P (§2.2)
+    /// |P'|, samples paired against all of P (§2.2); 0 chooses it by the Appendix's bound
+    /// (sample_size.h) for patches of min_patch_area, within max_transformation_points.
+    int pair_sample_count = 0;
+    /// Points in Γ that clustering may be given at most (its work grows with them): an
+    /// automatic n' is lowered to keep μ n' below this.
+    int max_transformation_points = 250000;
     double curvature_radius = 0.01;     ///< r of the curvature ball (§2), fraction of the diagonal
     /// r is at least this many median edge lengths, whatever curvature_radius says.
     double min_radius_in_edges = 1.5;
@@ -42,6 +49,8 @@ struct DetectionOptions {
 
     // Tunables of the stages, with their units in their own structs.
     DenoisingOptions denoising;               ///< presmoothing of noisy meshes (§5 limitations)
+    SampleSizeOptions sample_size;            ///< the Appendix's bound for an automatic n'
+    PairingOptions pairing;                   ///< partners per sample (§2.2)
     /// Region growing, ICP and acceptance (§4).  Its tolerance, min_patch_area,
     /// min_displacement, refine_with_icp and group are set from the fields above.
     VerificationOptions verification;
@@ -88,6 +97,10 @@ struct DetectionResult {
     double noise = 0;              ///< estimated vertex noise, fraction of the diagonal
     double smoothing_radius = 0;   ///< presmoothing applied for signatures and growth, fraction of the diagonal
     double curvature_radius = 0;   ///< the radius r used (see min_radius_in_edges), fraction of the diagonal
+    int pairs_sample_count_used = 0;  ///< n' = |P'| paired (§2.2)
+    SampleSize pair_sample_size;      ///< for an automatic n': the Appendix's bound behind it
+    bool pair_sample_count_automatic = false;
+    double partners_per_sample = 0;  ///< μ: points in Γ per paired sample, measured on a pilot
     double seconds_signatures = 0, seconds_pairing = 0, seconds_clustering = 0, seconds_verification = 0;
 };
 

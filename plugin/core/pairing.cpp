@@ -8,6 +8,14 @@
 
 namespace symmetry {
 
+namespace {
+double shape_index(double kappa1, double kappa2) {
+    // A monotone function of κ1/κ2, finite wherever κ1 ≠ κ2 (umbilics are pruned before
+    // pairing); 0 where both vanish.
+    return (kappa1 == 0 && kappa2 == 0) ? 0.0 : (2.0 / M_PI) * std::atan2(kappa2 + kappa1, kappa2 - kappa1);
+}
+}  // namespace
+
 Eigen::VectorXd signature(const SurfaceSignature& s, TransformationGroup group, double radius) {
     if (group == TransformationGroup::Similarity) {
         Eigen::VectorXd sigma(1);
@@ -21,9 +29,21 @@ Eigen::VectorXd signature(const SurfaceSignature& s, TransformationGroup group, 
     return sigma;
 }
 
+Eigen::VectorXd ranking_signature(const SurfaceSignature& s, TransformationGroup group, double radius) {
+    if (group == TransformationGroup::Similarity) {
+        Eigen::VectorXd sigma(2);
+        sigma << shape_index(s.kappa1, s.kappa2), shape_index(s.coarse_kappa1, s.coarse_kappa2);
+        return sigma;
+    }
+    Eigen::VectorXd sigma(4);
+    sigma << s.kappa1 * radius, s.kappa2 * radius, s.coarse_kappa1 * 2 * radius, s.coarse_kappa2 * 2 * radius;
+    return sigma;
+}
+
 std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
                                                    TransformationGroup group, double radius, double tolerance,
-                                                   int subset_size, double min_distance, std::mt19937_64& rng) {
+                                                   int subset_size, double min_distance, std::mt19937_64& rng,
+                                                   const PairingOptions& options) {
     std::vector<SignaturePair> pairs;
     const int n = int(samples.size());
     if (n < 2) return pairs;
@@ -44,19 +64,22 @@ std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSign
     }
     std::sort(order.begin(), order.begin() + m);
 
+    std::vector<Eigen::VectorXd> ranking(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) ranking[size_t(i)] = ranking_signature(samples[size_t(i)], group, radius);
     const double min_distance2 = min_distance * min_distance;
+    const int max_partners = std::max(1, options.max_partners);
     for (int k = 0; k < m; ++k) {
         const int i = order[k];
         std::vector<std::pair<double, int>> partners;
         for (int j : tree.radius_search(tree.points().row(i).data(), tolerance)) {
             if (j == i) continue;
             if ((samples[j].position - samples[i].position).squaredNorm() < min_distance2) continue;
-            partners.push_back({(tree.points().row(j) - tree.points().row(i)).squaredNorm(), j});
+            partners.push_back({(ranking[size_t(j)] - ranking[size_t(i)]).squaredNorm(), j});
         }
-        if (int(partners.size()) > kMaxPartners) {
+        if (int(partners.size()) > max_partners) {
             // Ties are broken by index, so the choice does not depend on the sort.
-            std::nth_element(partners.begin(), partners.begin() + kMaxPartners, partners.end());
-            partners.resize(kMaxPartners);
+            std::nth_element(partners.begin(), partners.begin() + max_partners, partners.end());
+            partners.resize(size_t(max_partners));
             std::sort(partners.begin(), partners.end(),
                       [](const auto& a, const auto& b) { return a.second < b.second; });
         }

@@ -23,20 +23,30 @@ struct SignaturePair {
     int second;  ///< index in P of its partner
 };
 
-/// On a surface whose curvature hardly varies (a sphere with bumps, a long tube) almost
-/// every sample falls within the tolerance of every other, and the pairs grow as n'·n.
-/// Keeping only the nearest partners in Ω bounds the work of clustering at n'·k points
-/// while keeping the partners most likely to be true ones (the Appendix's μ, the
-/// average number of partners, is 10 in the paper's example).
-constexpr int kMaxPartners = 32;
+struct PairingOptions {
+    /// On a surface whose curvature hardly varies (a sphere with bumps, a long tube) almost
+    /// every sample falls within the tolerance of every other, and the pairs grow as n'·n.
+    /// Keeping only this many partners per sample bounds the work of clustering at n'·k
+    /// points (the Appendix's μ, the average number of partners, is 10 in the paper's
+    /// example).  They are the nearest in the two-scale signature (ranking_signature), so
+    /// where the range query in Ω ties, the partners whose shape also agrees over a twice
+    /// larger ball are kept: a true partner does, a chance one seldom.
+    int max_partners = 32;
+};
+
+/// The signature partners are ranked by: σ at the radius r and at 2r, each made
+/// dimensionless by its own radius (for Similarity: the shape index at both radii).
+Eigen::VectorXd ranking_signature(const SurfaceSignature& s, TransformationGroup group, double radius);
 
 /// For `subset_size` samples drawn at random from P (the paper's P'), the partners in P
-/// within `tolerance` of its signature, at most kMaxPartners of them (the nearest in Ω),
+/// within `tolerance` of its signature, at most options.max_partners of them (the nearest
+/// by ranking_signature),
 /// excluding the sample itself and partners closer than `min_distance` in space (such
 /// pairs see the same patch and vote for near-identity transformations that carry no
 /// symmetry).  Deterministic for a given rng state.
 std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
                                                    TransformationGroup group, double radius, double tolerance,
-                                                   int subset_size, double min_distance, std::mt19937_64& rng);
+                                                   int subset_size, double min_distance, std::mt19937_64& rng,
+                                                   const PairingOptions& options = {});
 
 }  // namespace symmetry

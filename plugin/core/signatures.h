@@ -21,6 +21,9 @@ struct SurfaceSignature {
     Eigen::Vector3d direction2; ///< principal direction of kappa2; direction1 x direction2 = normal
     double kappa1 = 0;          ///< smaller principal curvature (signed, kappa1 <= kappa2)
     double kappa2 = 0;          ///< larger principal curvature; positive where the surface is convex
+    /// The principal curvatures over a ball of twice the radius (kept for the pruned samples
+    /// only): a second scale that tells true partners from chance ones in pairing (§2.2).
+    double coarse_kappa1 = 0, coarse_kappa2 = 0;
     double area = 0;            ///< surface area inside the ball, used for normalisation
     int face = -1;              ///< face the sample lies on
 };

@@ -168,7 +168,10 @@ bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, Verified
     s.rms_error = std::sqrt(deviation2 / count);
     s.systematic_error = systematic_deviation(mesh, s.source_vertices, grower.deviations(),
                                               options.deviation_smoothing_iterations);
-    return s.systematic_error <= options.max_systematic_deviation * options.tolerance;
+    const double largeness = options.large_patch_area > 0 ? std::min(1.0, s.source_area / options.large_patch_area) : 1.0;
+    const double bound = options.max_systematic_deviation_small +
+                         largeness * (options.max_systematic_deviation - options.max_systematic_deviation_small);
+    return s.systematic_error <= bound * options.tolerance;
 }
 
 // Step 5: the target patch, the vertices w whose preimage T⁻¹(w) lands on a face of the

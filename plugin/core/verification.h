@@ -33,10 +33,16 @@ struct VerificationOptions {
     /// The systematic deviation of a patch is its signed deviation averaged over each
     /// vertex's neighbourhood (`deviation_smoothing_iterations` rounds of averaging over
     /// mesh neighbours), which removes noise and keeps what is smooth.  Its RMS must stay
-    /// below this fraction of the tolerance.  Noise on a true copy averages out; two
-    /// unrelated smooth patches that merely touch do not: their gap grows smoothly from 0
-    /// at the contact to the tolerance at the border, an RMS of about half the tolerance.
+    /// below a fraction of the tolerance: this one for a patch of at least
+    /// `large_patch_area` (an imperfect global mirror of a scanned model), ...
     double max_systematic_deviation = 0.25;
+    /// ... and this one for a patch of no area, linearly in between.  Noise on a true copy
+    /// averages out; two unrelated smooth patches that merely touch do not: their gap
+    /// grows smoothly from 0 at the contact to the tolerance at the border (measured:
+    /// 0.15-0.25 of it).  A touch stays small, so a small patch must be more exact to be
+    /// believed than a large one.
+    double max_systematic_deviation_small = 0.1;
+    double large_patch_area = 0;  ///< absolute units; the pipeline sets half the model's area
     int deviation_smoothing_iterations = 4;  ///< rounds of averaging over mesh neighbours
     IcpOptions icp;
 };

@@ -252,6 +252,7 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["noise"] = QVariant(r.noise);
 	out["smoothing_radius"] = QVariant(r.smoothing_radius);
 	out["curvature_radius_used"] = QVariant(r.curvature_radius);
+	out["pair_sample_count_used"] = QVariant(r.pairs_sample_count_used);
 	return out;
 }
 
@@ -440,6 +441,16 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 		    int(k), qUtf8Printable(groupLabel(s)), int(s.source_vertices.size()), int(s.target_vertices.size()),
 		    s.transform.scale, 100 * s.rms_error, s.support, 100 * s.source_area,
 		    s.is_generator ? "generator" : "compound", qUtf8Printable(wordText(s.word)));
+	}
+	if (result.pair_sample_count_automatic) {
+		const symmetry::SampleSize& n = result.pair_sample_size;
+		log("Paired samples: n' = %d of %d. The Appendix's bound (Equation 1) for patches of %.3g%% of the samples "
+		    "found with probability %.3g%% (mu = %.1f points in transformation space per paired sample) %s.",
+		    result.pairs_sample_count_used, result.pruned_samples, 100 * n.p, 100 * (1 - n.alpha),
+		    result.partners_per_sample,
+		    qUtf8Printable(n.bound_met ? QString("asks for n' = %1").arg(n.n_prime)
+		                               : QString("is not met even by pairing every sample; more samples "
+		                                         "(sample_count) would meet it")));
 	}
 	log("%d symmetries (%d generators) from %d samples (%d after pruning), %d pairs, %d clusters; "
 	    "%.2f s signatures, %.2f s pairing, %.2f s clustering, %.2f s verification",

@@ -43,7 +43,10 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, b
 	parameters.addParam(RichInt(
 		"pair_sample_count", o.pair_sample_count, "Paired samples",
 		"Number of samples (the paper's random subset P') that are paired against all the others in "
-		"signature space (§2.2). Each pair votes for one transformation."));
+		"signature space (§2.2). Each pair votes for one transformation. 0 (the default) chooses it by the "
+		"bound of the paper's Appendix (Equation 1) so that a patch of the minimum patch area is found with 95% "
+		"probability, as far as a budget of points in transformation space allows; the log says the number "
+		"chosen and whether the bound was met."));
 	parameters.addParam(RichPercentage(
 		"curvature_radius", o.curvature_radius * d, 0, d, "Curvature radius",
 		"Radius of the ball over which curvature and principal directions are estimated at each sample (§2). "
