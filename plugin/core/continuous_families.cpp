@@ -1,5 +1,7 @@
 #include "continuous_families.h"
 
+#include "kd_tree.h"
+
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
@@ -150,7 +152,7 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
         family.direction = (rotations * svd.matrixV().col(0)).normalized();
         family.point = centroid;
         for (const auto& c : faces.centroids)
-            if (std::abs(family.direction.dot(c - centroid)) > tolerance) return ContinuousFamily();
+            if (std::abs(family.direction.dot(c - centroid)) > options.shape_tolerance * tolerance) return ContinuousFamily();
     } else if (slippable == 3 && turning == 3) {
         family.kind = ContinuousKind::Spherical;
         family.point = common_centre(family.motions);
@@ -158,7 +160,8 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
         for (size_t i = 0; i < faces.areas.size(); ++i) r += faces.areas[i] * (faces.centroids[i] - family.point).norm();
         family.radius = r / total;
         for (const auto& c : faces.centroids)
-            if (std::abs((c - family.point).norm() - family.radius) > tolerance) return ContinuousFamily();
+            if (std::abs((c - family.point).norm() - family.radius) > options.shape_tolerance * tolerance)
+                return ContinuousFamily();
     } else {
         return ContinuousFamily();
     }
@@ -219,7 +222,7 @@ ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double 
         family.radius = 1 / std::abs(mean);
         family.point = sample.position - sample.normal / mean;  // the outward normal points away from a convex centre
         family.extent = radius;
-        for (const Eigen::Vector3d& axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()}) {
+        for (const Eigen::Vector3d axis : {Eigen::Vector3d(Eigen::Vector3d::UnitX()), Eigen::Vector3d(Eigen::Vector3d::UnitY()), Eigen::Vector3d(Eigen::Vector3d::UnitZ())}) {
             Motion m;
             m.omega = axis;
             m.v = -axis.cross(family.point);
@@ -266,27 +269,51 @@ Transformation shift(const Eigen::Vector3d& by) {
     return t;
 }
 
-// Finite members of the family that move its patch well beyond the tolerance.
-std::vector<Transformation> finite_members(const ContinuousFamily& f) {
+// The range of the patch's vertices along a direction.
+double extent_along(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, const Eigen::Vector3d& axis) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (int v : patch) {
+        const double t = axis.dot(mesh.positions[size_t(v)]);
+        lo = std::min(lo, t);
+        hi = std::max(hi, t);
+    }
+    return patch.empty() ? 0.0 : hi - lo;
+}
+
+// Finite members of the family that move its patch well beyond the tolerance.  Rotations
+// of a surface of revolution may be large; a translational or planar family is finite,
+// so its members move the patch by a fraction of its own length, which keeps most of it
+// on itself.
+std::vector<Transformation> finite_members(const MeshNeighbourhoods& mesh, const ContinuousFamily& f) {
     std::vector<Transformation> members;
-    const double degrees[] = {45, 90, 180};
-    Eigen::Vector3d u = f.direction.unitOrthogonal(), w = f.direction.cross(u);
+    const Eigen::Vector3d u = f.direction.unitOrthogonal(), w = f.direction.cross(u);
     switch (f.kind) {
     case ContinuousKind::Rotational:
+        for (double d : {45.0, 90.0, 180.0}) members.push_back(rotation_about(f.point, f.direction, d * M_PI / 180, 0));
+        break;
     case ContinuousKind::Helical:
-        for (double d : degrees) members.push_back(rotation_about(f.point, f.direction, d * M_PI / 180, f.pitch * d / 360));
+        for (double d : {-90.0, -45.0, 45.0, 90.0})
+            members.push_back(rotation_about(f.point, f.direction, d * M_PI / 180, f.pitch * d / 360));
         break;
-    case ContinuousKind::Translational:
-        for (double s : {0.25, 0.5}) members.push_back(shift(s * f.extent * f.direction));
+    case ContinuousKind::Translational: {
+        const double length = extent_along(mesh, f.vertices, f.direction);
+        for (double s : {-0.25, -0.1, 0.1, 0.25}) members.push_back(shift(s * length * f.direction));
         break;
-    case ContinuousKind::Planar:
-        members.push_back(shift(0.25 * f.extent * u));
-        members.push_back(shift(0.25 * f.extent * w));
-        members.push_back(rotation_about(f.point, f.direction, M_PI / 2, 0));
+    }
+    case ContinuousKind::Planar: {
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+        for (int v : f.vertices) centre += mesh.positions[size_t(v)];
+        if (!f.vertices.empty()) centre /= double(f.vertices.size());
+        for (double d : {-30.0, -15.0, 15.0, 30.0}) members.push_back(rotation_about(centre, f.direction, d * M_PI / 180, 0));
+        for (const Eigen::Vector3d& axis : {u, w}) {
+            const double length = extent_along(mesh, f.vertices, axis);
+            for (double s : {-0.15, 0.15}) members.push_back(shift(s * length * axis));
+        }
         break;
+    }
     case ContinuousKind::Spherical:
-        for (const Eigen::Vector3d& axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()})
-            members.push_back(rotation_about(f.point, axis, M_PI / 2, 0));
+        for (const Eigen::Vector3d axis : {Eigen::Vector3d(Eigen::Vector3d::UnitX()), Eigen::Vector3d(Eigen::Vector3d::UnitY()), Eigen::Vector3d(Eigen::Vector3d::UnitZ())})
+            members.push_back(rotation_about(f.point, axis, M_PI / 4, 0));
         break;
     case ContinuousKind::Discrete: break;
     }
@@ -300,23 +327,41 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
     FamilyCheck check;
     check.deviation.assign(family.vertices.size(), 0.0);
     std::vector<double> best(family.vertices.size(), INFINITY);
-    const std::vector<Transformation> members = finite_members(family);
+    const std::vector<Transformation> members = finite_members(mesh, family);
     if (members.empty() || family.vertices.empty()) return check;
-    double coverage = 0;
+    // A finite family (an extrusion, a face, a cap) maps part of its patch beyond its own
+    // end: only the vertices whose image stays over the patch (within a few edges of one
+    // of its vertices) are tested.  A surface of revolution is tested whole.
+    const bool clipped = family.kind != ContinuousKind::Rotational;
+    KdTree::Points points(Eigen::Index(family.vertices.size()), 3);
+    for (size_t i = 0; i < family.vertices.size(); ++i) points.row(Eigen::Index(i)) = mesh.positions[size_t(family.vertices[i])].transpose();
+    const KdTree footprint(std::move(points));
+    const double reach = 3 * median_edge_length(mesh);
+    double coverage = 1;
     int most = -1;
     for (const Transformation& T : members) {
-        int landed = 0;
+        int tested = 0, landed = 0;
+        std::vector<double> magnitudes;
         for (size_t i = 0; i < family.vertices.size(); ++i) {
-            const int v = family.vertices[i];
-            ClosestPoint cp = surface.closest(T.apply(mesh.positions[size_t(v)]), tolerance);
+            const Eigen::Vector3d image = T.apply(mesh.positions[size_t(family.vertices[i])]);
+            if (clipped && footprint.nearest(image.data()).second > reach) continue;
+            ++tested;
+            ClosestPoint cp = surface.closest(image, tolerance);
             if (!cp.found) continue;
             ++landed;
+            magnitudes.push_back(cp.distance);
             if (std::abs(cp.signed_distance) < std::abs(best[i])) best[i] = cp.signed_distance;
         }
-        coverage += double(landed) / double(family.vertices.size());
+        if (!magnitudes.empty()) {
+            std::nth_element(magnitudes.begin(), magnitudes.begin() + long(magnitudes.size() / 2), magnitudes.end());
+            check.median_deviation = std::max(check.median_deviation, magnitudes[magnitudes.size() / 2]);
+        }
+        // Too little left over the patch to tell: the member does not hold.
+        const double share = tested >= int(family.vertices.size() / 4) ? double(landed) / double(tested) : 0.0;
+        coverage = std::min(coverage, share);
         if (landed > most) { most = landed; check.best_member = T; }
     }
-    check.coverage = coverage / double(members.size());
+    check.coverage = coverage;
     for (size_t i = 0; i < best.size(); ++i) check.deviation[i] = std::isfinite(best[i]) ? best[i] : 0.0;
     return check;
 }
@@ -324,10 +369,12 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
 std::vector<int> grow_family_patch(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,
                                    const std::vector<int>& seeds, double tolerance,
                                    const ContinuousFamilyOptions& options) {
-    const double max_sine = sine_of(options.tangency_degrees);
+    const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
+    const double max_sine = sine_of(shape ? options.shape_tangency_degrees : options.tangency_degrees);
     auto on_shape = [&](const Eigen::Vector3d& p) {
-        if (family.kind == ContinuousKind::Planar) return std::abs(family.direction.dot(p - family.point)) <= tolerance;
-        if (family.kind == ContinuousKind::Spherical) return std::abs((p - family.point).norm() - family.radius) <= tolerance;
+        const double off = options.shape_tolerance * tolerance;
+        if (family.kind == ContinuousKind::Planar) return std::abs(family.direction.dot(p - family.point)) <= off;
+        if (family.kind == ContinuousKind::Spherical) return std::abs((p - family.point).norm() - family.radius) <= off;
         return true;
     };
     // Some face around v is tangent to every generating motion at v.

@@ -67,16 +67,33 @@ struct ContinuousFamilyOptions {
     /// Region growing of a family's patch: the largest angle, in degrees, between a face
     /// around a vertex and the direction in which each generating motion moves the vertex.
     double tangency_degrees = 5;
+    /// A planar or spherical patch lies within this fraction of the verification tolerance
+    /// of its plane or sphere: a gently bulging region lies within the tolerance of a plane
+    /// without being one.
+    double shape_tolerance = 0.1;
+    /// The tangency angle for planes and spheres, in degrees: tighter, since a smooth
+    /// model has flat-looking regions (around inflections) a few degrees from any plane.
+    double shape_tangency_degrees = 2;
     /// Two families with axes (or normals) within this angle, in degrees, and within the
     /// verification tolerance of each other are the same family.
     double axis_agreement_degrees = 2;
-    /// A family is reported only when its patch maps onto the surface under finite members
-    /// (rotations by 45°, 90° and 180°; shifts by a quarter and a half of the patch's
-    /// radius) for at least this fraction of its vertices, on average over the members.
-    /// Slippage is a first-order, local property: a quarter-cylinder fillet or a scan's
-    /// roughly tubular ear is slippable but not a rotational symmetry.  (Its members are
-    /// still not reported as discrete symmetries.)
-    double min_member_coverage = 0.6;
+    /// A family is reported only when each of its finite members (rotations by 45°, 90° and
+    /// 180°; shifts by a tenth and a quarter of the patch's length; small turns and shifts
+    /// of a plane) maps at least this fraction of its patch onto the surface (of the part
+    /// that stays over the patch, for a finite family).  Slippage is
+    /// a first-order, local property: a quarter-cylinder fillet or a scan's roughly tubular
+    /// ear is slippable but not a rotational symmetry.  (Its members are still not
+    /// reported as discrete symmetries.)
+    double min_member_coverage = 0.8;
+    /// ...with a median deviation below this fraction of the tolerance (as for a discrete
+    /// symmetry, VerificationOptions::max_median_deviation): a bumpy torus turned about its
+    /// axis stays within a coarse tolerance, but not closely.
+    double max_member_median_deviation = 0.1;
+    /// The same for planes and spheres, stricter: a smooth model is flat within a tenth of
+    /// the tolerance over a few percent of its area around every inflection, and those
+    /// regions deviate from their plane by 0.02-0.05 of the tolerance where a designed
+    /// plane deviates by nothing.
+    double max_shape_member_median_deviation = 0.02;
     /// A discrete symmetry whose patch lies on continuous families for at least this share
     /// of its vertices...
     double min_family_share = 0.9;
@@ -86,8 +103,9 @@ struct ContinuousFamilyOptions {
 };
 
 /// Slippage analysis of a patch (Gelfand and Guibas 2004) and the family it belongs to,
-/// with kind Discrete when no motion is slippable.  `tolerance` bounds the distance to
-/// the plane (planar) or the sphere (spherical), which slippage alone cannot see.
+/// with kind Discrete when no motion is slippable.  The patch must lie within
+/// shape_tolerance × `tolerance` of its plane (planar) or sphere (spherical), which
+/// slippage alone cannot see.
 ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, double tolerance,
                                   const ContinuousFamilyOptions& options);
 
@@ -116,7 +134,8 @@ bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double to
 
 /// How a family's finite members map its patch onto the surface.
 struct FamilyCheck {
-    double coverage = 0;                 ///< fraction of the patch mapped within the tolerance, mean over members
+    double coverage = 0;                 ///< fraction of the patch mapped within the tolerance, worst member
+    double median_deviation = 0;         ///< median distance of the mapped vertices, worst member, absolute units
     Transformation best_member;          ///< the member that maps most of the patch (the family's representative)
     std::vector<double> deviation;       ///< per patch vertex: the smallest signed deviation under a member (0: none lands)
 };

@@ -5,12 +5,15 @@
 
 namespace symmetry {
 
-bool CurvatureAgreement::passes(const CurvatureAgreementOptions& options) const {
+bool CurvatureAgreement::passes(const CurvatureAgreementOptions& options, double area_fraction) const {
     if (tested == 0) return false;
     if (std::max(roughness_source, roughness_image) > options.max_roughness_in_edges) return true;
     const double repeatability = double(std::min(beside_source, beside_image)) / tested;
     if (repeatability < options.min_repeatability) return true;
-    return double(under_transform) / tested >= options.min_relative_agreement * repeatability;
+    const double largeness = std::min(1.0, area_fraction / 0.5);
+    const double relative = options.min_relative_agreement +
+                            largeness * largeness * (options.min_relative_agreement_large - options.min_relative_agreement);
+    return double(under_transform) / tested >= relative * repeatability;
 }
 
 namespace {

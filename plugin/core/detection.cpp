@@ -430,7 +430,7 @@ private:
         const CurvatureAgreement agreement =
             curvature_agreement(mesh_, surface_, curvature_, roughness_, votes_.P, s.source_vertices, s.transform, model_.radius,
                                 options_.signature_tolerance, vo_.tolerance, options_.agreement);
-        if (!agreement.passes(options_.agreement)) return;
+        if (!agreement.passes(options_.agreement, s.source_area / model_.total_area)) return;
         std::vector<int> both;
         std::set_union(s.source_vertices.begin(), s.source_vertices.end(), s.target_vertices.begin(),
                        s.target_vertices.end(), std::back_inserter(both));
@@ -674,7 +674,12 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     int families = 0;
     for (size_t k = 0; k < findings.families.size() && families < options.max_symmetries; ++k) {
         const FamilyCheck check = check_members(neighbourhoods, analysed_surface, findings.families[k], tolerance);
-        if (check.coverage < options.continuous.min_member_coverage) continue;
+        const ContinuousKind kind = findings.families[k].kind;
+        const bool shape = kind == ContinuousKind::Planar || kind == ContinuousKind::Spherical;
+        const double max_median = shape ? options.continuous.max_shape_member_median_deviation
+                                        : options.continuous.max_member_median_deviation;
+        if (check.coverage < options.continuous.min_member_coverage || check.median_deviation > max_median * tolerance)
+            continue;
         reported.push_back(family_as_symmetry(findings.families[k], check, neighbourhoods));
         supports.push_back(findings.family_support[k]);
         family_of.push_back(&findings.families[k]);

@@ -46,6 +46,23 @@ Transformation fit_transformation(const std::vector<Eigen::Vector3d>& source, co
     return Transformation();
 }
 
+Transformation pure_mirror(const Eigen::Vector3d& n, double d) {
+    Transformation t;
+    t.reflection = true;
+    t.rotation = (Eigen::Matrix3d::Identity() - 2 * n * n.transpose()) * Transformation::mirror();  // H = R M
+    t.translation = 2 * d * n;
+    return t;
+}
+
+void mirror_plane(const Transformation& T, Eigen::Vector3d& n, double& d) {
+    // The nearest pure reflection's normal: the eigenvector of the symmetric part of the
+    // linear map with the lowest eigenvalue (-1 for a mirror); the plane halves T(0).
+    const Eigen::Matrix3d L = T.linear() / T.scale;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (L + L.transpose()));
+    n = eig.eigenvectors().col(0);
+    d = 0.5 * n.dot(T.translation);
+}
+
 namespace {
 
 // One linearised point-to-plane step (Chen and Medioni; Rusinkiewicz and Levoy 2001):
@@ -84,6 +101,30 @@ Transformation point_to_plane_step(const std::vector<Eigen::Vector3d>& moved, co
     return step;
 }
 
+// One Gauss-Newton step of point-to-plane ICP restricted to pure mirrors x -> x - 2(n·x - d) n:
+// the plane's two tilts (along u, w ⟂ n) and its offset, fitted to the tangent planes
+// (q, m) of the closest points of the mirrored source points p.  (Fitting the plane to
+// point-to-point displacements instead is slow and biased where the surface slides.)
+Transformation point_to_plane_mirror_step(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& q,
+                                          const std::vector<Eigen::Vector3d>& m, const Eigen::Vector3d& n, double d) {
+    const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+    Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < p.size(); ++i) {
+        const double h = n.dot(p[i]) - d;
+        const Eigen::Vector3d image = p[i] - 2 * h * n;
+        // ∂H/∂n along δn ⟂ n: -2((δn·p) n + h δn); ∂H/∂d = 2n.
+        Eigen::Vector3d row(-2 * (u.dot(p[i]) * n.dot(m[i]) + h * u.dot(m[i])),
+                            -2 * (w.dot(p[i]) * n.dot(m[i]) + h * w.dot(m[i])), 2 * n.dot(m[i]));
+        const double residual = (image - q[i]).dot(m[i]);
+        AtA += row * row.transpose();
+        Atb -= row * residual;
+    }
+    AtA.diagonal().array() += 1e-9 * AtA.trace() / 3;
+    const Eigen::Vector3d x = AtA.ldlt().solve(Atb);
+    return pure_mirror((n + x(0) * u + x(1) * w).normalized(), d + x(2));
+}
+
 // Closest points of the moved source, within `radius`.
 struct Correspondences {
     std::vector<Eigen::Vector3d> source, moved, target, normals;
@@ -120,9 +161,17 @@ IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const Surfac
     for (int iteration = 0; iteration < iterations; ++iteration) {
         match(points, stride, surface, t, radius, c);
         if (int(c.source.size()) < options.min_points / 2) break;
-        Transformation fitted = planar ? point_to_plane_step(c.moved, c.target, c.normals,
-                                                             group == TransformationGroup::Similarity) * t
-                                       : fit_transformation(c.source, c.target, group, t.reflection);
+        Transformation fitted;
+        if (planar) {
+            fitted = point_to_plane_step(c.moved, c.target, c.normals, group == TransformationGroup::Similarity) * t;
+        } else if (group == TransformationGroup::Reflections) {
+            Eigen::Vector3d n;
+            double d;
+            mirror_plane(t, n, d);
+            fitted = point_to_plane_mirror_step(c.source, c.target, c.normals, n, d);
+        } else {
+            fitted = fit_transformation(c.source, c.target, group, t.reflection);
+        }
         if (!fitted.matrix().allFinite()) break;
         double shift = 0;
         for (size_t i = 0; i < c.source.size(); ++i) shift = std::max(shift, (fitted.apply(c.source[i]) - c.moved[i]).norm());

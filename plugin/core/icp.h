@@ -30,6 +30,11 @@ struct IcpOptions {
 Transformation fit_transformation(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
                                   TransformationGroup group, bool reflection);
 
+/// The mirror across the plane n·x = d (n unit).
+Transformation pure_mirror(const Eigen::Vector3d& n, double d);
+/// The plane (n, d) of the pure mirror nearest to the improper transformation T.
+void mirror_plane(const Transformation& T, Eigen::Vector3d& n, double& d);
+
 struct IcpResult {
     Transformation transform;
     bool refitted = false;   ///< false when too few points matched to fit anything
@@ -38,9 +43,9 @@ struct IcpResult {
 };
 
 /// ICP of `points` (source positions) onto the surface, starting from `start`.
-/// Point-to-plane steps for the rigid and similarity groups (point-to-point steps crawl
-/// along directions in which the surface nearly slides onto itself), the group's own
-/// least-squares fit for mirrors and translations.
+/// Point-to-plane steps (point-to-point steps crawl along directions in which the surface
+/// nearly slides onto itself): over all rigid motions or similarities, or over the pure
+/// mirrors for the Reflections group; the mean offset for translations.
 IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const SurfaceQuery& surface,
                         const Transformation& start, TransformationGroup group, double tolerance, int iterations,
                         const IcpOptions& options);

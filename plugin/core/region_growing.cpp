@@ -7,6 +7,9 @@
 namespace symmetry {
 
 namespace {
+// Faces within this fraction of the tolerance of the nearest one are as near as it.
+constexpr double kTie = 1e-3;
+
 Eigen::Vector3d to_eigen(const vcg::Point3d& p) { return {p[0], p[1], p[2]}; }
 
 // Compressed rows from per-vertex lists, each list sorted and without repeats.
@@ -19,6 +22,33 @@ void compress(std::vector<std::vector<int>>& lists, std::vector<int>& offsets, s
         items.insert(items.end(), l.begin(), l.end());
         offsets.push_back(int(items.size()));
     }
+}
+}  // namespace
+
+namespace {
+// Breadth-first labelling of the connected components, with their vertices and areas.
+void label_components(MeshNeighbourhoods& n) {
+    const int nv = n.vertex_count();
+    n.component_of.assign(size_t(nv), -1);
+    n.member_offsets.assign(1, 0);
+    n.members.clear();
+    n.members.reserve(size_t(nv));
+    for (int start = 0; start < nv; ++start) {
+        if (n.component_of[size_t(start)] >= 0) continue;
+        const int c = int(n.member_offsets.size()) - 1;
+        n.component_of[size_t(start)] = c;
+        size_t first = n.members.size();
+        n.members.push_back(start);
+        for (size_t i = first; i < n.members.size(); ++i)
+            for (int k = n.neighbour_offsets[n.members[i]]; k < n.neighbour_offsets[n.members[i] + 1]; ++k) {
+                const int u = n.neighbours[size_t(k)];
+                if (n.component_of[size_t(u)] < 0) { n.component_of[size_t(u)] = c; n.members.push_back(u); }
+            }
+        n.member_offsets.push_back(int(n.members.size()));
+    }
+    n.component_areas.assign(n.member_offsets.size() - 1, 0.0);
+    for (size_t f = 0; f < n.faces.size(); ++f)
+        if (n.faces[f][0] >= 0) n.component_areas[size_t(n.component_of[size_t(n.faces[f][0])])] += n.face_areas[f];
 }
 }  // namespace
 
@@ -47,6 +77,14 @@ MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
     }
     compress(around, n.neighbour_offsets, n.neighbours);
     compress(faces_of, n.face_offsets, n.faces_around);
+    label_components(n);
+    n.component_open.assign(n.component_areas.size(), 0);
+    for (size_t f = 0; f < mesh.face.size(); ++f) {
+        const Face& face = mesh.face[f];
+        if (face.IsD()) continue;
+        for (int k = 0; k < 3; ++k)
+            if (face.cFFp(k) == &face) n.component_open[size_t(n.component_of[size_t(n.faces[f][0])])] = 1;
+    }
     return n;
 }
 
@@ -78,16 +116,27 @@ RegionGrower::RegionGrower(const MeshNeighbourhoods& mesh, const SurfaceQuery& s
     : mesh_(mesh), surface_(surface), tolerance_(options.tolerance),
       min_normal_cosine_(std::cos(options.normal_agreement_degrees * M_PI / 180.0)),
       state_(size_t(mesh.vertex_count()), kUntried), deviation_(size_t(mesh.vertex_count()), 0.0),
-      landing_face_(size_t(mesh.vertex_count()), -1) {}
+      landing_face_(size_t(mesh.vertex_count()), -1),
+      any_open_(std::any_of(mesh.component_open.begin(), mesh.component_open.end(), [](char o) { return o != 0; })) {}
 
 bool RegionGrower::accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces) {
-    ClosestPoint cp = surface_.closest(T.apply(mesh_.positions[size_t(v)]), tolerance_);
+    // The images of the normals of the faces around v: T(v) must land on a face that
+    // agrees with one of them.
+    normals_.clear();
+    for (int k = mesh_.face_offsets[v]; k < mesh_.face_offsets[v + 1]; ++k)
+        normals_.push_back(T.apply_to_normal(mesh_.face_normals[size_t(mesh_.faces_around[size_t(k)])]));
+    const Eigen::Vector3d image = T.apply(mesh_.positions[size_t(v)]);
+    ClosestPoint nearest = surface_.closest(image, tolerance_);
+    if (!nearest.found) return false;
+    // Among the faces as near as the nearest one (they meet there: a crease, or separate
+    // parts touching), one whose normal agrees.  Only as near: a farther face that agrees
+    // (the other side of a thin plate) is not where T(v) lands.
+    const double reach = nearest.distance + kTie * tolerance_;
+    ClosestPoint cp = surface_.closest_facing(image, reach, normals_, min_normal_cosine_, false);
+    // An open surface (a sheet) may face either way: try the other sign too.
+    if (!cp.found && any_open_) cp = surface_.closest_facing(image, reach, normals_, min_normal_cosine_, true);
     if (!cp.found) return false;
     if (allowed_faces && !(*allowed_faces)[size_t(cp.face)]) return false;
-    bool agrees = false;
-    for (int k = mesh_.face_offsets[v]; k < mesh_.face_offsets[v + 1] && !agrees; ++k)
-        agrees = T.apply_to_normal(mesh_.face_normals[size_t(mesh_.faces_around[k])]).dot(cp.normal) >= min_normal_cosine_;
-    if (!agrees) return false;
     deviation_[size_t(v)] = cp.signed_distance;
     landing_face_[size_t(v)] = cp.face;
     return true;

@@ -24,6 +24,14 @@ struct MeshNeighbourhoods {
     std::vector<std::array<int, 3>> faces;           ///< corners of every face (deleted faces: -1)
     std::vector<Eigen::Vector3d> face_normals;       ///< unit, outward
     std::vector<double> face_areas;
+    /// Connected components over mesh edges: the component of every vertex, and the
+    /// vertices of component c in members[member_offsets[c] .. member_offsets[c+1]).
+    std::vector<int> component_of;
+    std::vector<int> member_offsets, members;
+    std::vector<double> component_areas;
+    /// Whether a component has border edges: an open surface, whose faces may face either
+    /// way (a wing modelled as a single sheet), so normals are compared without their sign.
+    std::vector<char> component_open;
 
     int vertex_count() const { return int(positions.size()); }
 };
@@ -56,7 +64,7 @@ public:
 
     /// Whether T maps vertex v onto the surface: T(v) lies within the tolerance of it,
     /// and T maps the normal of at least one face around v onto the normal where T(v)
-    /// lands.  One face suffices so that growth crosses sharp creases, where the vertex
+    /// lands (up to sign where either side is an open surface).  One face suffices so that growth crosses sharp creases, where the vertex
     /// normal is an average that agrees with neither side.  With `allowed_faces`, T(v)
     /// must also land on one of those faces.  Records the deviation and landing face.
     bool accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces);
@@ -91,6 +99,8 @@ private:
     std::vector<char> state_;
     std::vector<double> deviation_;
     std::vector<int> landing_face_;
+    bool any_open_;
+    std::vector<Eigen::Vector3d> normals_;  // work space of accepts()
 };
 
 }  // namespace symmetry

@@ -27,17 +27,26 @@ SampleSize appendix_sample_size(int n, double p, double mu, int d, double extent
     auto meets = [&](int m) {
         return spurious_bin_height(m, mu, d, extent_over_bandwidth) < patch_bin_height(m, p, alpha, d);
     };
-    // The left side falls and the right side grows with n': the first n' that meets the
-    // bound is found by bisection.
+    // Both sides grow with n': the right one linearly, the left one slowly until the points
+    // crowd every bin.  So the bound holds on an interval of n'; its start is found by
+    // geometric steps, then bisection.
     s.n_prime = std::max(1, n);
-    s.bound_met = n > 0 && meets(n);
-    if (s.bound_met) {
-        int lo = 0, hi = n;  // meets(hi), !meets(lo)
-        while (hi - lo > 1) {
-            const int mid = lo + (hi - lo) / 2;
-            (meets(mid) ? hi : lo) = mid;
+    s.bound_met = false;
+    int below = 0;
+    for (double m = 16; m < 2.0 * n; m *= 1.25) {
+        const int candidate = std::min(n, int(m));
+        if (meets(candidate)) {
+            int lo = below, hi = candidate;  // !meets(lo) (or lo = 0), meets(hi)
+            while (hi - lo > 1) {
+                const int mid = lo + (hi - lo) / 2;
+                (meets(mid) ? hi : lo) = mid;
+            }
+            s.n_prime = hi;
+            s.bound_met = true;
+            break;
         }
-        s.n_prime = hi;
+        below = candidate;
+        if (candidate == n) break;
     }
     s.noise = spurious_bin_height(s.n_prime, mu, d, extent_over_bandwidth);
     s.height = patch_bin_height(s.n_prime, p, alpha, d);

@@ -16,6 +16,48 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh) : mesh_(mesh), grid_(std::make_uniq
 
 SurfaceQuery::~SurfaceQuery() = default;
 
+namespace {
+// vcg's point-face distance, blind to the faces whose normal does not match.
+struct FacingDistance {
+    typedef double ScalarType;
+    typedef vcg::Point3d QueryType;
+    static const vcg::Point3d& Pos(const vcg::Point3d& q) { return q; }
+    const std::vector<Eigen::Vector3d>* normals;
+    double min_cosine;
+    bool either_sign;
+    vcg::face::PointDistanceBaseFunctor<double> distance;
+    bool operator()(const Face& f, const vcg::Point3d& p, double& min_distance, vcg::Point3d& q) {
+        const Eigen::Vector3d n(f.cN()[0], f.cN()[1], f.cN()[2]);
+        bool facing = false;
+        for (const Eigen::Vector3d& m : *normals) {
+            const double c = n.dot(m);
+            if ((either_sign ? std::abs(c) : c) >= min_cosine) { facing = true; break; }
+        }
+        return facing && distance(f, p, min_distance, q);
+    }
+};
+}  // namespace
+
+ClosestPoint SurfaceQuery::closest_facing(const Eigen::Vector3d& query, double max_distance,
+                                          const std::vector<Eigen::Vector3d>& normals, double min_cosine,
+                                          bool either_sign) const {
+    ClosestPoint result;
+    vcg::tri::EmptyTMark<Mesh> marker;
+    FacingDistance point_face_distance{&normals, min_cosine, either_sign, {}};
+    const vcg::Point3d p(query.x(), query.y(), query.z());
+    double distance = max_distance;
+    vcg::Point3d nearest(0, 0, 0);
+    Face* f = grid_->grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
+    if (f == nullptr) return result;
+    result.found = true;
+    result.face = int(vcg::tri::Index(mesh_, f));
+    result.point = Eigen::Vector3d(nearest[0], nearest[1], nearest[2]);
+    result.normal = Eigen::Vector3d(f->N()[0], f->N()[1], f->N()[2]).normalized();
+    result.distance = (query - result.point).norm();
+    result.signed_distance = (query - result.point).dot(result.normal) >= 0 ? result.distance : -result.distance;
+    return result;
+}
+
 ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_distance) const {
     ClosestPoint result;
     // EmptyTMark instead of the mesh's marks: a face may be tested twice, but queries

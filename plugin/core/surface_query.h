@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 namespace symmetry {
 
@@ -24,6 +25,14 @@ public:
     ~SurfaceQuery();
     /// The closest point of the surface within `max_distance` of `query`; found=false if none.
     ClosestPoint closest(const Eigen::Vector3d& query, double max_distance) const;
+
+    /// The closest point among the faces whose normal n agrees with one of `normals`
+    /// (n·m >= min_cosine, or |n·m| >= min_cosine when `either_sign`).  Where several
+    /// faces meet at the closest point (a crease, or separate parts that touch there),
+    /// the nearest face alone may face another way than the one that matches.
+    ClosestPoint closest_facing(const Eigen::Vector3d& query, double max_distance,
+                                const std::vector<Eigen::Vector3d>& normals, double min_cosine,
+                                bool either_sign) const;
 
 private:
     struct Grid;

@@ -77,7 +77,7 @@ RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQ
         if (!r.refitted) return RefitOutcome::Unchanged;
         t = r.transform;
         double systematic = systematic_deviation(mesh, patch, grower.deviations(), options.deviation_smoothing_iterations);
-        if (systematic > 2 * options.max_systematic_deviation * options.tolerance) return RefitOutcome::Hopeless;
+        if (systematic > 1.5 * options.max_systematic_deviation * options.tolerance) return RefitOutcome::Hopeless;
         return RefitOutcome::Refitted;
     };
 }
@@ -125,6 +125,63 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
     return out;
 }
 
+// Step 3a: the final T, refined on all accepted components.  An improper T that is
+// nearly its own inverse is a mirror up to the fit's freedom: ICP over all improper
+// motions may tilt it into a slight rotoreflection where the shape is only
+// approximately symmetric.  It is refitted as a pure mirror and kept as one unless
+// that fits clearly worse (glide reflections and true rotoreflections are not involutions
+// and stay as they are).
+Transformation final_fit(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const std::vector<int>& vertices,
+                         const Transformation& start, const VerificationOptions& options) {
+    const std::vector<Eigen::Vector3d> points = positions_of(mesh, vertices);
+    IcpResult fit = refine_by_icp(points, surface, start, options.group, options.tolerance, options.icp.iterations,
+                                  options.icp);
+    if (!fit.refitted) return start;
+    const Transformation& T = fit.transform;
+    if (!T.reflection || options.group == TransformationGroup::Reflections || std::abs(T.scale - 1) > 1e-6) return T;
+    const Transformation twice = T * T;
+    const size_t stride = std::max<size_t>(1, points.size() / 64);
+    for (size_t i = 0; i < points.size(); i += stride)
+        if ((twice.apply(points[i]) - points[i]).norm() > 4 * options.tolerance) return T;
+    Eigen::Vector3d n;
+    double d;
+    mirror_plane(T, n, d);
+    IcpResult mirror = refine_by_icp(points, surface, pure_mirror(n, d), TransformationGroup::Reflections,
+                                     options.tolerance, options.icp.iterations, options.icp);
+    return mirror.refitted && mirror.rms <= options.mirror_snap_rms_ratio * fit.rms + 1e-3 * options.tolerance
+               ? mirror.transform
+               : T;
+}
+
+// Step 3b: the mesh's other connected components that T maps onto the surface (a model
+// made of separate parts, a wing on each side).  No pair of the cluster need lie on them,
+// so each is tried from a few vertices spread over it, and kept, whatever its size, when
+// T carries most of it: "the connected components of the model that are invariant under
+// the transformation" (§4).  Most of it, so that a part that merely touches the surface
+// under T is not taken.
+void sweep_other_components(const MeshNeighbourhoods& mesh, const Transformation& T, RegionGrower& grower,
+                            const VerificationOptions& options, std::vector<int>& patch) {
+    std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
+    std::vector<char> done(mesh.component_areas.size(), 0);
+    for (int v : patch) done[size_t(mesh.component_of[size_t(v)])] = 1;
+    Transformation fixed = T;
+    bool hopeless = false;
+    for (size_t c = 0; c < done.size(); ++c) {
+        if (done[c]) continue;
+        const int first = mesh.member_offsets[c], count = mesh.member_offsets[c + 1] - first;
+        const int stride = std::max(1, count / std::max(1, options.component_probes));
+        for (int i = 0; i < count; i += stride) {
+            const int v = mesh.members[size_t(first + i)];
+            if (grower.tried(v)) continue;
+            std::vector<int> grown = grower.grow(v, fixed, nullptr, nullptr, hopeless);
+            if (grown.empty()) continue;
+            if (area_of(mesh, grown, scratch) >= options.min_component_share * mesh.component_areas[c])
+                patch.insert(patch.end(), grown.begin(), grown.end());
+            break;
+        }
+    }
+}
+
 // Step 3: the final T, refined on all accepted components, and the source patch regrown
 // under it from those components, so every vertex of the result is measured under the
 // same T (and the border rejected under earlier estimates gets another chance).
@@ -142,6 +199,7 @@ std::vector<int> regrow_under_final_transform(const MeshNeighbourhoods& mesh, co
         if (area_of(mesh, component, scratch) < options.min_patch_area) continue;
         patch.insert(patch.end(), component.begin(), component.end());
     }
+    if (!patch.empty()) sweep_other_components(mesh, fixed, grower, options, patch);
     std::sort(patch.begin(), patch.end());
     return patch;
 }
@@ -166,11 +224,16 @@ bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, Verified
     s.source_area = area_of(mesh, s.source_vertices, scratch);
     if (s.source_area < options.min_patch_area) return false;
     s.rms_error = std::sqrt(deviation2 / count);
+    std::vector<double> magnitudes;
+    magnitudes.reserve(s.source_deviation.size());
+    for (double d : s.source_deviation) magnitudes.push_back(std::abs(d));
+    std::nth_element(magnitudes.begin(), magnitudes.begin() + long(magnitudes.size() / 2), magnitudes.end());
+    if (magnitudes[magnitudes.size() / 2] > options.max_median_deviation * options.tolerance) return false;
     s.systematic_error = systematic_deviation(mesh, s.source_vertices, grower.deviations(),
                                               options.deviation_smoothing_iterations);
     const double largeness = options.large_patch_area > 0 ? std::min(1.0, s.source_area / options.large_patch_area) : 1.0;
     const double bound = options.max_systematic_deviation_small +
-                         largeness * (options.max_systematic_deviation - options.max_systematic_deviation_small);
+                         largeness * largeness * (options.max_systematic_deviation - options.max_systematic_deviation_small);
     return s.systematic_error <= bound * options.tolerance;
 }
 
@@ -213,17 +276,11 @@ std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh,
 
     VerifiedSymmetry s;
     s.transform = components.estimate;
-    if (options.refine_with_icp) {
-        IcpResult r = refine_by_icp(positions_of(mesh, components.vertices), surface, s.transform, options.group,
-                                    options.tolerance, options.icp.iterations, options.icp);
-        if (r.refitted) s.transform = r.transform;
-    }
+    if (options.refine_with_icp) s.transform = final_fit(mesh, surface, components.vertices, s.transform, options);
     RegionGrower final_source(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
     s.source_vertices = regrow_under_final_transform(mesh, components.vertices, s.transform, final_source, options);
     if (s.source_vertices.empty()) return std::nullopt;
-    if (!accept(mesh, final_source, s, options)) {
-        return std::nullopt;
-    }
+    if (!accept(mesh, final_source, s, options)) return std::nullopt;
     grow_target_side(mesh, surface, final_source, s, options);
     return s;
 }

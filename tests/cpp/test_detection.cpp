@@ -97,3 +97,29 @@ TEST(Detection, RejectsAbsurdParametersWithASentence) {
         EXPECT_NE(std::string(e.what()).find("umbilic_ratio"), std::string::npos);
     }
 }
+
+TEST(Detection, ATorusIsOneRotationalFamilyAndItsMirror) {
+    // A torus has a continuum of symmetries (every rotation about its axis, every mirror
+    // through a plane containing it, every half-turn about an axis in its equator) and one
+    // more mirror, across the equator.  Reported: one rotational family and that mirror.
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, -1, 2).normalized()).toRotationMatrix();
+    Shape s = transformed(torus(2.0, 0.7, 160, 56), tilt, Eigen::Vector3d(1, 2, 3));
+    DetectionResult r = detect_partial_symmetries(s.V, s.F, DetectionOptions());
+    const Eigen::Vector3d axis = tilt * Eigen::Vector3d::UnitZ();
+    int families = 0, mirrors = 0;
+    for (const auto& sym : r.symmetries) {
+        if (sym.continuous_kind == ContinuousKind::Rotational) {
+            ++families;
+            EXPECT_GT(std::abs(sym.axis_direction.dot(axis)), std::cos(0.5 * M_PI / 180));
+            EXPECT_GT(sym.source_area, 0.95);
+        } else {
+            ASSERT_EQ(sym.continuous_kind, ContinuousKind::Discrete);
+            EXPECT_TRUE(sym.transform.reflection);
+            // The equator's mirror: it reverses the axis.
+            EXPECT_LT((sym.transform.linear() * axis + axis).norm(), 0.01);
+            ++mirrors;
+        }
+    }
+    EXPECT_EQ(families, 1);
+    EXPECT_EQ(mirrors, 1);
+}

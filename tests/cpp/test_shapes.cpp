@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <vector>
 
 namespace symmetry::testing {
@@ -92,6 +93,49 @@ Shape deformed_torus(double R, double r, int around, int tube, const std::functi
         Eigen::Vector3d centre(R * std::cos(u), R * std::sin(u), 0.0);
         s.V.row(i) = (centre + (p - centre) * tube_scale(u)).transpose();
     }
+    return s;
+}
+
+Shape box(double a, double b, double c, int n) {
+    // Each face: a grid over the two free axes at the fixed coordinate, oriented outwards.
+    Shape s;
+    std::vector<Eigen::Vector3d> v;
+    std::vector<Eigen::Vector3i> f;
+    const Eigen::Vector3d half(a, b, c);
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side : {-1, 1}) {
+            const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+            const int first = int(v.size());
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n; ++j) {
+                    Eigen::Vector3d p;
+                    p[axis] = side * half[axis];
+                    p[u] = half[u] * (2.0 * i / n - 1);
+                    p[w] = half[w] * (2.0 * j / n - 1);
+                    v.push_back(p);
+                }
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    int p00 = first + i * (n + 1) + j, p10 = p00 + n + 1, p01 = p00 + 1, p11 = p10 + 1;
+                    // (u, w, axis) is right-handed: u x w = +axis, so (p00, p10, p11) faces +axis.
+                    if (side > 0) { f.push_back({p00, p10, p11}); f.push_back({p00, p11, p01}); }
+                    else { f.push_back({p00, p11, p10}); f.push_back({p00, p01, p11}); }
+                }
+        }
+    // Weld the vertices the faces share along the edges.
+    std::map<std::tuple<long, long, long>, int> index;
+    std::vector<int> remap(v.size());
+    std::vector<Eigen::Vector3d> welded;
+    for (size_t i = 0; i < v.size(); ++i) {
+        auto key = std::make_tuple(std::lround(v[i].x() * 1e6), std::lround(v[i].y() * 1e6), std::lround(v[i].z() * 1e6));
+        auto it = index.find(key);
+        if (it == index.end()) { index[key] = int(welded.size()); remap[i] = int(welded.size()); welded.push_back(v[i]); }
+        else remap[i] = it->second;
+    }
+    s.V.resize(Eigen::Index(welded.size()), 3);
+    for (size_t i = 0; i < welded.size(); ++i) s.V.row(Eigen::Index(i)) = welded[i].transpose();
+    s.F.resize(Eigen::Index(f.size()), 3);
+    for (size_t i = 0; i < f.size(); ++i) s.F.row(Eigen::Index(i)) << remap[size_t(f[i][0])], remap[size_t(f[i][1])], remap[size_t(f[i][2])];
     return s;
 }
 

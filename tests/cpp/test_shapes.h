@@ -21,6 +21,8 @@ Shape torus(double R, double r, int around, int tube);
 /// Torus whose tube radius at angle u around the axis is r * tube_scale(u): with a
 /// non-constant scale it has no continuous rotational symmetry.
 Shape deformed_torus(double R, double r, int around, int tube, const std::function<double(double)>& tube_scale);
+/// Closed box [-a, a] x [-b, b] x [-c, c], every face an n by n grid of quads split in two.
+Shape box(double a, double b, double c, int n);
 /// Apply x -> A x + t to every vertex; flips the faces' orientation when det(A) < 0 so the
 /// normals stay outward.
 Shape transformed(const Shape& s, const Eigen::Matrix3d& A, const Eigen::Vector3d& t);

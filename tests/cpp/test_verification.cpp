@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <random>
 
 using namespace symmetry;
@@ -149,4 +150,80 @@ TEST(Verification, FitTransformationRecoversEachGroup) {
     Transformation shift;
     shift.translation = Eigen::Vector3d(3, 0, -1);
     check(shift, TransformationGroup::Translations);
+}
+
+namespace {
+
+// A box and a turned, re-tessellated copy of it beside it.
+struct BoxScene {
+    Mesh mesh;
+    std::vector<int> rows;
+    Transformation planted;
+    int base_vertices = 0;
+};
+
+void build_boxes(BoxScene& scene) {
+    Shape base = box(1.0, 0.7, 0.4, 10);
+    scene.planted.rotation = Eigen::AngleAxisd(1.2, Eigen::Vector3d(0.2, 1, 0.4).normalized()).toRotationMatrix();
+    scene.planted.translation = Eigen::Vector3d(4, 0.5, 0);
+    Shape copy = transformed(box(1.0, 0.7, 0.4, 13), scene.planted.linear(), scene.planted.translation);
+    scene.base_vertices = int(base.V.rows());
+    Shape all = merged(base, copy);
+    build_mesh(all.V, all.F, scene.mesh, scene.rows);
+}
+
+VerificationOptions box_options(const Mesh& mesh) {
+    VerificationOptions options;
+    options.tolerance = 0.01 * mesh.bbox.Diag();
+    options.min_patch_area = 0.05 * surface_area(mesh);
+    options.min_displacement = 0.05 * mesh.bbox.Diag();
+    return options;
+}
+
+}  // namespace
+
+TEST(Verification, GrowthCrossesSharpCreases) {
+    BoxScene scene;
+    build_boxes(scene);
+    const MeshNeighbourhoods n = mesh_neighbourhoods(scene.mesh);
+    const SurfaceQuery surface(scene.mesh);
+    // One seed on one face: the whole box must be reached, across its twelve creases.
+    auto result = verify_candidate(n, surface, scene.planted, {{7, 0.0}}, box_options(scene.mesh));
+    ASSERT_TRUE(result.has_value());
+    EXPECT_NEAR(result->source_area / surface_area(scene.mesh), 0.5, 0.01);
+    EXPECT_EQ(int(result->source_vertices.size()), scene.base_vertices);
+}
+
+TEST(Verification, TheOrderOfTheSeedsDoesNotMatter) {
+    BoxScene scene;
+    build_boxes(scene);
+    const MeshNeighbourhoods n = mesh_neighbourhoods(scene.mesh);
+    const SurfaceQuery surface(scene.mesh);
+    Transformation rough = scene.planted;
+    rough.translation += Eigen::Vector3d(0.01, -0.005, 0.008);
+    std::vector<Seed> seeds;
+    for (int v = 0; v < scene.base_vertices; v += 37) seeds.push_back({v, 0.001 * (v % 5)});
+    auto a = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh));
+    std::reverse(seeds.begin(), seeds.end());
+    std::rotate(seeds.begin(), seeds.begin() + 3, seeds.end());
+    auto b = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh));
+    ASSERT_TRUE(a.has_value() && b.has_value());
+    EXPECT_EQ(a->source_vertices, b->source_vertices);
+    EXPECT_EQ(a->target_vertices, b->target_vertices);
+    EXPECT_EQ(a->transform.matrix(), b->transform.matrix());
+}
+
+TEST(Verification, AWrongSeedDoesNotAbortATrueSymmetry) {
+    BoxScene scene;
+    build_boxes(scene);
+    const MeshNeighbourhoods n = mesh_neighbourhoods(scene.mesh);
+    const SurfaceQuery surface(scene.mesh);
+    // Seeds nearest to the mode on the copy, where the planted transformation maps nothing
+    // onto the surface, then one on the box.
+    std::vector<Seed> seeds;
+    for (int k = 0; k < 5; ++k) seeds.push_back({scene.base_vertices + 11 * k, 0.0});
+    seeds.push_back({9, 1.0});
+    auto result = verify_candidate(n, surface, scene.planted, seeds, box_options(scene.mesh));
+    ASSERT_TRUE(result.has_value());
+    EXPECT_EQ(int(result->source_vertices.size()), scene.base_vertices);
 }

@@ -1,0 +1,130 @@
+// Continuous families: slippage analysis names the analytic shapes by their kind and axis,
+// finds none on a shape without one, and tells the family's own members from other
+// symmetries.
+#include "core/continuous_families.h"
+#include "test_shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <numeric>
+
+using namespace symmetry;
+using namespace symmetry::testing;
+
+namespace {
+
+struct Analysed {
+    Mesh mesh;
+    MeshNeighbourhoods n;
+    std::vector<int> all;
+    double diagonal = 0;
+};
+
+void analyse(const Shape& s, Analysed& a) {
+    std::vector<int> rows;
+    build_mesh(s.V, s.F, a.mesh, rows);
+    a.n = mesh_neighbourhoods(a.mesh);
+    a.all.resize(size_t(a.n.vertex_count()));
+    std::iota(a.all.begin(), a.all.end(), 0);
+    a.diagonal = a.mesh.bbox.Diag();
+}
+
+double angle_degrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180 / M_PI;
+}
+
+}  // namespace
+
+TEST(ContinuousFamilies, NamesTheAnalyticShapes) {
+    const ContinuousFamilyOptions options;
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
+    const Eigen::Vector3d shift(0.3, -1.2, 2.0);
+    const Eigen::Vector3d axis = tilt * Eigen::Vector3d::UnitZ();
+    {
+        Analysed a;  // a torus: a surface of revolution about z
+        analyse(transformed(torus(2.0, 0.6, 120, 40), tilt, shift), a);
+        ContinuousFamily f = slippable_family(a.n, a.all, 0.01 * a.diagonal, options);
+        EXPECT_EQ(f.kind, ContinuousKind::Rotational);
+        EXPECT_LT(angle_degrees(f.direction, axis), 0.5);
+        EXPECT_LT((f.point - shift).cross(axis).norm(), 1e-3 * a.diagonal);  // the axis passes through the centre
+        EXPECT_FALSE(f.slides_along_axis);
+    }
+    {
+        Analysed a;  // an open cylinder: turns about its axis and slides along it
+        analyse(transformed(cylinder(0.5, 2.0, 96, 40), tilt, shift), a);
+        ContinuousFamily f = slippable_family(a.n, a.all, 0.01 * a.diagonal, options);
+        EXPECT_EQ(f.kind, ContinuousKind::Rotational);
+        EXPECT_TRUE(f.slides_along_axis);
+        EXPECT_LT(angle_degrees(f.direction, axis), 0.5);
+    }
+    {
+        Analysed a;  // a sphere: every rotation about its centre
+        analyse(transformed(sphere(1.5, 4), tilt, shift), a);
+        ContinuousFamily f = slippable_family(a.n, a.all, 0.01 * a.diagonal, options);
+        EXPECT_EQ(f.kind, ContinuousKind::Spherical);
+        EXPECT_LT((f.point - shift).norm(), 1e-3);
+        EXPECT_NEAR(f.radius, 1.5, 0.01);
+    }
+    {
+        Analysed a;  // one face of a box: a plane
+        analyse(transformed(box(1, 1, 1, 10), tilt, shift), a);
+        std::vector<int> face;
+        for (int v = 0; v < a.n.vertex_count(); ++v)
+            if (std::abs((tilt.transpose() * (a.n.positions[size_t(v)] - shift)).z() - 1) < 1e-9) face.push_back(v);
+        ContinuousFamily f = slippable_family(a.n, face, 0.01 * a.diagonal, options);
+        EXPECT_EQ(f.kind, ContinuousKind::Planar);
+        EXPECT_LT(angle_degrees(f.direction, axis), 0.5);
+    }
+    {
+        Analysed a;  // a torus whose tube swells on one side: no continuous symmetry
+        analyse(deformed_torus(2.0, 0.6, 120, 40, [](double u) { return 1 + 0.3 * std::cos(u); }), a);
+        EXPECT_EQ(slippable_family(a.n, a.all, 0.01 * a.diagonal, options).kind, ContinuousKind::Discrete);
+    }
+}
+
+TEST(ContinuousFamilies, MembersAreTheFamilysOwnMotions) {
+    ContinuousFamily torus_family;  // a surface of revolution about z through the origin
+    torus_family.kind = ContinuousKind::Rotational;
+    torus_family.direction = Eigen::Vector3d::UnitZ();
+    torus_family.extent = 1;
+    const double tol = 1e-3, degrees = 1;
+    Transformation turn;  // any rotation about the axis
+    turn.rotation = Eigen::AngleAxisd(1.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    EXPECT_TRUE(is_member(torus_family, turn, tol, degrees));
+    Transformation containing;  // the mirror through a plane containing the axis (x = 0)
+    containing.reflection = true;
+    EXPECT_TRUE(is_member(torus_family, containing, tol, degrees));
+    Transformation flip;  // a half-turn about the x axis: the family composed with the mirror z -> -z
+    flip.rotation = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    EXPECT_TRUE(is_member(torus_family, flip, tol, degrees));
+    Transformation equator = Transformation::from_linear(Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d::Zero());
+    EXPECT_FALSE(is_member(torus_family, equator, tol, degrees));  // a discrete symmetry of its own
+    Transformation elsewhere;  // a rotation about a parallel axis
+    elsewhere.rotation = turn.rotation;
+    elsewhere.translation = Eigen::Vector3d(0.5, 0, 0) - turn.rotation * Eigen::Vector3d(0.5, 0, 0);
+    EXPECT_FALSE(is_member(torus_family, elsewhere, tol, degrees));
+    Transformation along;  // a shift along the axis moves a surface of revolution off itself...
+    along.translation = Eigen::Vector3d(0, 0, 0.3);
+    EXPECT_FALSE(is_member(torus_family, along, tol, degrees));
+    ContinuousFamily cylinder_family = torus_family;  // ...but not a cylinder
+    cylinder_family.slides_along_axis = true;
+    EXPECT_TRUE(is_member(cylinder_family, along, tol, degrees));
+}
+
+TEST(ContinuousFamilies, FiniteMembersHoldOnlyOnTrueFamilies) {
+    for (bool swollen : {false, true}) {
+        Analysed a;
+        analyse(swollen ? deformed_torus(2.0, 0.6, 120, 40, [](double u) { return 1 + 0.3 * std::cos(u); })
+                        : torus(2.0, 0.6, 120, 40),
+                a);
+        ContinuousFamily f;
+        f.kind = ContinuousKind::Rotational;
+        f.direction = Eigen::Vector3d::UnitZ();
+        f.vertices = a.all;
+        const SurfaceQuery surface(a.mesh);
+        FamilyCheck check = check_members(a.n, surface, f, 0.01 * a.diagonal);
+        if (swollen) EXPECT_LT(check.coverage, ContinuousFamilyOptions().min_member_coverage);
+        else EXPECT_GT(check.coverage, 0.99);
+    }
+}
