@@ -222,7 +222,8 @@ ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double 
         family.radius = 1 / std::abs(mean);
         family.point = sample.position - sample.normal / mean;  // the outward normal points away from a convex centre
         family.extent = radius;
-        for (const Eigen::Vector3d axis : {Eigen::Vector3d(Eigen::Vector3d::UnitX()), Eigen::Vector3d(Eigen::Vector3d::UnitY()), Eigen::Vector3d(Eigen::Vector3d::UnitZ())}) {
+        for (int a = 0; a < 3; ++a) {
+            const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
             Motion m;
             m.omega = axis;
             m.v = -axis.cross(family.point);
@@ -312,8 +313,7 @@ std::vector<Transformation> finite_members(const MeshNeighbourhoods& mesh, const
         break;
     }
     case ContinuousKind::Spherical:
-        for (const Eigen::Vector3d axis : {Eigen::Vector3d(Eigen::Vector3d::UnitX()), Eigen::Vector3d(Eigen::Vector3d::UnitY()), Eigen::Vector3d(Eigen::Vector3d::UnitZ())})
-            members.push_back(rotation_about(f.point, axis, M_PI / 4, 0));
+        for (int a = 0; a < 3; ++a) members.push_back(rotation_about(f.point, Eigen::Vector3d::Unit(a), M_PI / 4, 0));
         break;
     case ContinuousKind::Discrete: break;
     }
