@@ -296,6 +296,22 @@ public:
         return findings_.families.size() > families;
     }
 
+    /// Whether most of the candidate's votes join points that lie on the patches of what
+    /// was found already (discrete symmetries and families).
+    bool inside_explained_patches(const Candidate& candidate) {
+        const size_t found = findings_.discrete.size() + findings_.families.size();
+        if (found == 0) return false;
+        if (found != explained_count_) {
+            explained_.assign(size_t(mesh_.vertex_count()), 0);
+            for (const auto& f : findings_.discrete)
+                for (size_t v = 0; v < explained_.size(); ++v) explained_[v] |= f.source_flags[v] | f.target_flags[v];
+            for (const auto& flags : family_flags_)
+                for (size_t v = 0; v < explained_.size(); ++v) explained_[v] |= flags[v];
+            explained_count_ = found;
+        }
+        return share_of_votes_between(candidate, endpoints_, explained_, explained_) >= 0.8;
+    }
+
     /// The votes of the newest family's members: pairs on its patch whose transformation
     /// is a member, within what a single pair's frames can tell (as for a cluster's mode).
     std::vector<int> newest_family_votes() const {
@@ -359,9 +375,22 @@ public:
                     return true;
             return false;
         };
+        auto spilled_member = [&](const VerifiedSymmetry& s) {
+            for (size_t k = 0; k < findings_.families.size(); ++k) {
+                if (!is_member(findings_.families[k], s.transform, vo_.tolerance,
+                               options_.continuous.axis_agreement_degrees))
+                    continue;
+                size_t on = 0;
+                for (int v : s.source_vertices) on += family_flags_[k][size_t(v)] != 0;
+                if (double(on) >= options_.continuous.min_member_share * double(s.source_vertices.size())) return true;
+            }
+            return false;
+        };
         std::vector<Found> kept;
         for (auto& f : findings_.discrete)
-            if (!partial(f.symmetry.source_vertices) && !partial(f.symmetry.target_vertices)) kept.push_back(std::move(f));
+            if (!partial(f.symmetry.source_vertices) && !partial(f.symmetry.target_vertices) &&
+                !spilled_member(f.symmetry))
+                kept.push_back(std::move(f));
         findings_.discrete.swap(kept);
     }
 
@@ -496,6 +525,8 @@ private:
     std::vector<std::pair<int, int>> pair_endpoints_, endpoints_;  // seed vertices of each pair, of each vote
     Findings findings_;
     std::vector<std::vector<char>> family_flags_;
+    std::vector<char> explained_;  // vertices on any found patch, see inside_explained_patches
+    size_t explained_count_ = 0;
     std::vector<Transformation> tried_;
     size_t verified_ = 0;
     int skipped_members_ = 0;
@@ -521,19 +552,25 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     Verifier verifier(model, votes, space, options);
     verifier.add_families_of_discarded_samples();
     double reclustering = 0;
-    for (size_t i = 0; i < candidates.size() && !verifier.done(max_verified); ++i) {
-        if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
-        if (!verifier.consider(candidates[i])) continue;
-        const std::vector<int> members = verifier.newest_family_votes();
-        if (members.empty()) continue;
-        for (int v : members) active[size_t(v)] = 0;
-        auto again = Clock::now();
-        candidates = cluster(votes, active, space, options, max_modes);
-        const double seconds = seconds_since(again);
-        result.seconds_clustering += seconds;
-        reclustering += seconds;
-        i = size_t(-1);  // from the top: what was verified already is skipped as tried
-    }
+    // Two passes: first the clusters whose votes fall outside what is explained already,
+    // then the rest.  A large verified symmetry (a model's global mirror) leaves many
+    // clusters of near-misses on its own patches; in vote order they would spend the
+    // verification budget before the cluster of a small repeated part elsewhere.
+    for (int pass = 0; pass < 2; ++pass)
+        for (size_t i = 0; i < candidates.size() && !verifier.done(max_verified); ++i) {
+            if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
+            if (pass == 0 && verifier.inside_explained_patches(candidates[i])) continue;
+            if (!verifier.consider(candidates[i])) continue;
+            const std::vector<int> members = verifier.newest_family_votes();
+            if (members.empty()) continue;
+            for (int v : members) active[size_t(v)] = 0;
+            auto again = Clock::now();
+            candidates = cluster(votes, active, space, options, max_modes);
+            const double seconds = seconds_since(again);
+            result.seconds_clustering += seconds;
+            reclustering += seconds;
+            i = size_t(-1);  // from the top: what was verified already is skipped as tried
+        }
     verifier.drop_partial_family_relations();
     result.seconds_verification = seconds_since(start) - reclustering;
     return verifier.take_findings(result);
@@ -680,7 +717,10 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
                                         : options.continuous.max_member_median_deviation;
         if (check.coverage < options.continuous.min_member_coverage || check.median_deviation > max_median * tolerance)
             continue;
-        reported.push_back(family_as_symmetry(findings.families[k], check, neighbourhoods));
+        VerifiedSymmetry family = family_as_symmetry(findings.families[k], check, neighbourhoods);
+        // Refinement by slippage may have shrunk the patch grown from a pruned sample.
+        if (family.source_area < options.min_patch_area * model.total_area) continue;
+        reported.push_back(std::move(family));
         supports.push_back(findings.family_support[k]);
         family_of.push_back(&findings.families[k]);
         ++families;

@@ -277,6 +277,7 @@ std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh,
     VerifiedSymmetry s;
     s.transform = components.estimate;
     if (options.refine_with_icp) s.transform = final_fit(mesh, surface, components.vertices, s.transform, options);
+    if (std::abs(std::log(s.transform.scale / mode.scale)) > std::log(options.max_scale_change)) return std::nullopt;
     RegionGrower final_source(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
     s.source_vertices = regrow_under_final_transform(mesh, components.vertices, s.transform, final_source, options);
     if (s.source_vertices.empty()) return std::nullopt;

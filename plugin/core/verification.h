@@ -35,10 +35,11 @@ struct VerificationOptions {
     /// vertex's neighbourhood (`deviation_smoothing_iterations` rounds of averaging over
     /// mesh neighbours), which removes noise and keeps what is smooth.  Its RMS must stay
     /// below a fraction of the tolerance: this one for a patch of at least
-    /// `large_patch_area` (measured: 0.15 on the imperfect mirrors of a scanned elk and
-    /// helmet, 0.32 on a scanned mannequin, 0.44-0.46 on mirrors that a smooth random blob
-    /// nearly has, 0.31-0.39 on those of a bumpy superquadric), ...
-    double max_systematic_deviation = 0.3;
+    /// `large_patch_area` (measured: 0.15-0.18 on the imperfect mirrors of a scanned elk and
+    /// helmet, at most 0.07 on ten other real models, 0.32 on a scanned mannequin; 0.24-0.30
+    /// on the near-mirrors and half-turns of smooth random blobs, a bumpy hull and two fused
+    /// copies of a blob, which hold everywhere but nowhere closely), ...
+    double max_systematic_deviation = 0.2;
     /// ... and this one for a patch of no area, in between with the square of the area.
     /// Noise on a true copy averages out; two unrelated smooth patches that merely touch do
     /// not: their gap grows smoothly from 0 at the contact to the tolerance at the border
@@ -52,6 +53,11 @@ struct VerificationOptions {
     /// whose gap is moderate everywhere).
     double max_median_deviation = 0.25;
     int deviation_smoothing_iterations = 4;  ///< rounds of averaging over mesh neighbours
+    /// Step 3: the final scale may differ from the cluster mode's by at most this factor
+    /// (either way).  The mode's scale is the ratio of curvatures of many pairs; ICP in the
+    /// 7-D group may otherwise shrink T towards scale 0, where every patch maps onto a point
+    /// of the surface with no deviation at all.
+    double max_scale_change = 1.5;
     /// Step 3a: an improper T that is nearly an involution becomes a pure mirror unless
     /// that raises the fit's RMS by more than this factor.
     double mirror_snap_rms_ratio = 1.1;

@@ -8,6 +8,8 @@
 #include <vcg/complex/algorithms/update/bounding.h>
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <new>
@@ -164,16 +166,48 @@ CMeshO patchMesh(const HostMesh& h, const std::vector<int>& rows)
 	return patch;
 }
 
-QString groupLabel(const symmetry::DetectedSymmetry& s)
+// What a reported symmetry is, in words: a continuous family with its axis, or the kind of
+// the discrete transformation (a rotation whose axis it also slides along is a screw, a
+// mirror that also slides along its plane a glide reflection).  `diagonal` sets the
+// lengths below which a slide is none.
+QString kindLabel(const symmetry::DetectedSymmetry& s, double diagonal)
 {
+	using symmetry::ContinuousKind;
+	const Eigen::Vector3d& p = s.axis_point;
+	const Eigen::Vector3d& d = s.axis_direction;
+	const QString axis = QString("point (%1, %2, %3), direction (%4, %5, %6)")
+		.arg(p.x(), 0, 'g', 4).arg(p.y(), 0, 'g', 4).arg(p.z(), 0, 'g', 4)
+		.arg(d.x(), 0, 'f', 3).arg(d.y(), 0, 'f', 3).arg(d.z(), 0, 'f', 3);
+	switch (s.continuous_kind) {
+	case ContinuousKind::Rotational: return "rotational family about the axis " + axis;
+	case ContinuousKind::Translational: return QString("translational family along (%1, %2, %3)")
+		.arg(d.x(), 0, 'f', 3).arg(d.y(), 0, 'f', 3).arg(d.z(), 0, 'f', 3);
+	case ContinuousKind::Helical: return QString("helical family about the axis %1, pitch %2% of the diagonal")
+		.arg(axis).arg(100 * s.pitch, 0, 'g', 3);
+	case ContinuousKind::Planar: return "planar family, plane through " + QString(axis).replace("direction", "normal");
+	case ContinuousKind::Spherical: return QString("spherical family, centre (%1, %2, %3)")
+		.arg(p.x(), 0, 'g', 4).arg(p.y(), 0, 'g', 4).arg(p.z(), 0, 'g', 4);
+	case ContinuousKind::Discrete: break;
+	}
 	const symmetry::Transformation& t = s.transform;
-	if (t.reflection)
-		return "reflection";
+	const double slide_floor = 1e-3 * diagonal;
 	if (std::abs(t.scale - 1) > 1e-6)
-		return "similarity";
-	if ((t.rotation - Eigen::Matrix3d::Identity()).norm() < 1e-6)
+		return QString("similarity (scale %1)").arg(t.scale, 0, 'g', 4);
+	const Eigen::Matrix3d L = t.linear();
+	if (t.reflection) {
+		// The mirror's normal n: L n = -n.  A glide slides along the plane: (t - (t.n) n).
+		Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(0.5 * (L + L.transpose()));
+		const Eigen::Vector3d n = e.eigenvectors().col(0);
+		const Eigen::Vector3d slide = t.translation - n * n.dot(t.translation);
+		return (L * L - Eigen::Matrix3d::Identity()).norm() < 1e-3 && slide.norm() > slide_floor ? "glide reflection"
+		                                                                                           : "reflection";
+	}
+	if ((L - Eigen::Matrix3d::Identity()).norm() < 1e-6)
 		return "translation";
-	return "rotation";
+	const Eigen::AngleAxisd r(L);
+	const double angle = r.angle() * 180 / M_PI;
+	const double slide = std::abs(r.axis().dot(t.translation));
+	return QString("%1 by %2 degrees").arg(slide > slide_floor ? "screw" : "rotation").arg(angle, 0, 'f', 1);
 }
 
 QString wordText(const symmetry::Word& word)
@@ -308,13 +342,21 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 		       "<i>Layers symmetry_k_source and symmetry_k_target</i> (if <i>Create patch layers</i> is on): "
 		       "the two patches that symmetry k maps onto each other; the input stays the current mesh.<br>"
 		       "<i>Returned values</i>: symmetry_count; transforms (16 numbers per symmetry, the row-major 4x4 "
-		       "matrix mapping the source patch onto the target); scales, is_reflection, rms_errors (fraction "
-		       "of the diagonal), source_areas (fraction of the total area) and supports (votes in the cluster), "
-		       "one per symmetry; generator_count, is_generator and basis_words (basis_loop_length letters per "
-		       "symmetry, padded with 0: letter +k is generator k-1, -k its inverse); patch_layer_ids (source "
-		       "and target layer id per symmetry, -1 without layers); stage times seconds_signatures, "
-		       "seconds_pairing, seconds_clustering, seconds_verification; work counts samples, pruned_samples, "
-		       "pairs, clusters.<br><br>"
+		       "matrix mapping the source patch onto the target; for a continuous family one of its members); "
+		       "scales, is_reflection, rms_errors and max_errors (deviation from perfect symmetry, fraction of "
+		       "the diagonal), systematic_errors (the deviation averaged over neighbourhoods, what noise leaves), "
+		       "source_areas (fraction of the total area) and supports (votes for it), one per symmetry; "
+		       "continuous_kinds (0 discrete, 1 rotational, 2 translational, 3 helical, 4 planar, 5 spherical), "
+		       "continuous_axes (6 per symmetry: a point on the axis, plane or the centre, then the unit axis, "
+		       "normal or direction; zeros for a discrete symmetry) and continuous_pitches (helical: advance per "
+		       "turn, fraction of the diagonal); generator_count, is_generator and basis_words "
+		       "(basis_loop_length letters per symmetry, padded with 0: letter +k is generator k-1, -k its "
+		       "inverse; continuous families are not in the basis); patch_layer_ids (source and target layer id "
+		       "per symmetry, -1 without layers); stage times seconds_signatures, seconds_pairing, "
+		       "seconds_clustering, seconds_verification; work counts samples, pruned_samples, pairs, clusters, "
+		       "verified_clusters; and what the filter chose from the mesh: noise (estimated, fraction of the "
+		       "diagonal), smoothing_radius (presmoothing of a noisy mesh, 0 if none), curvature_radius_used and "
+		       "pair_sample_count_used.<br><br>"
 		       "See:<br><i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i><br>"
 		       "<b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b><br>"
 		       "ACM Transactions on Graphics 25(3) (SIGGRAPH 2006), pages 560-568.";
@@ -436,11 +478,14 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 
 	for (size_t k = 0; k < result.symmetries.size(); ++k) {
 		const symmetry::DetectedSymmetry& s = result.symmetries[k];
-		log("Symmetry %d: %s, %d -> %d vertices, scale %.4g, rms error %.3g%% of the diagonal, support %d, "
-		    "source area %.3g%%, %s (%s)",
-		    int(k), qUtf8Printable(groupLabel(s)), int(s.source_vertices.size()), int(s.target_vertices.size()),
-		    s.transform.scale, 100 * s.rms_error, s.support, 100 * s.source_area,
-		    s.is_generator ? "generator" : "compound", qUtf8Printable(wordText(s.word)));
+		const QString basis = s.continuous_kind != symmetry::ContinuousKind::Discrete
+		                          ? QString("continuous")
+		                          : QString("%1 (%2)").arg(s.is_generator ? "generator" : "compound").arg(wordText(s.word));
+		log("Symmetry %d: %s; %d -> %d vertices, source area %.3g%%, deviation rms %.3g%% max %.3g%% of the "
+		    "diagonal, support %d, %s",
+		    int(k), qUtf8Printable(kindLabel(s, host.V.rows() ? (host.V.colwise().maxCoeff() - host.V.colwise().minCoeff()).norm() : 1.0)),
+		    int(s.source_vertices.size()), int(s.target_vertices.size()), 100 * s.source_area, 100 * s.rms_error,
+		    100 * s.max_error, s.support, qUtf8Printable(basis));
 	}
 	if (result.pair_sample_count_automatic) {
 		const symmetry::SampleSize& n = result.pair_sample_size;

@@ -65,7 +65,9 @@ def test_defaults_follow_the_spec(meshset):
     assert values["umbilic_ratio"] == pytest.approx(0.75)
     assert values["create_patch_layers"] is True
     assert values["random_seed"] == 0
-    assert values["sample_count"] > values["pair_sample_count"] > 0
+    # 0 = automatic: n' from the Appendix's bound (Equation 1) for patches of min_patch_area.
+    assert values["pair_sample_count"] == 0
+    assert values["sample_count"] > 0
     d = diagonal(ms)
     # Percentages of the diagonal come back as absolute lengths, a small part of the diagonal.
     for name in ("curvature_radius", "cluster_bandwidth", "verification_tolerance", "basis_tolerance"):
