@@ -180,15 +180,20 @@ bool is_member(const ContinuousFamily& f, const Transformation& T, double tolera
             distance_to_line(f.point, f.direction, T.apply(b)) > tolerance)
             return false;  // the axis is not mapped onto itself
         if (std::abs(image.dot(f.direction)) < parallel) return false;
-        if (f.kind == ContinuousKind::Helical || f.slides_along_axis) return true;
-        if (image.dot(f.direction) > 0) return std::abs((T.apply(a) - a).dot(f.direction)) <= tolerance;
+        if (f.kind == ContinuousKind::Helical) return true;
+        if (image.dot(f.direction) > 0)
+            return f.slides_along_axis || std::abs((T.apply(a) - a).dot(f.direction)) <= tolerance;
         // The axis flipped: a half-turn is the family composed with the mirror across the
-        // plane normal to the axis; that mirror itself (T² = I) is reported.
+        // plane normal to the axis; that mirror itself (T² = I) is reported, also where the
+        // surface slides along the axis (a capped cylinder's mirror across its mid-plane).
+        // Where the surface slides, every mirror normal to the axis maps it locally; only the
+        // one through the middle of the patch (f.point, see record_family) maps all of it.
         const Transformation twice = T * T;
         const bool mirror_normal_to_axis = T.reflection && (twice.apply(a) - a).norm() <= tolerance &&
                                            (twice.apply(b) - b).norm() <= tolerance &&
                                            (twice.linear() - Eigen::Matrix3d::Identity()).norm() < 0.05;
-        return !mirror_normal_to_axis;
+        const bool through_middle = std::abs((0.5 * (a + T.apply(a)) - f.point).dot(f.direction)) <= tolerance;
+        return !(mirror_normal_to_axis && (!f.slides_along_axis || through_middle));
     }
     case ContinuousKind::Translational: {
         if (std::abs(image.dot(f.direction)) < parallel) return false;

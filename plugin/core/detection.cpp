@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <random>
@@ -411,11 +412,19 @@ private:
                space_.distance(a, b.inverse()) < options_.cluster_bandwidth;
     }
 
+    // A candidate on a surface of revolution that slides it along the axis (a glide or a
+    // screw of a capped cylinder's side) is a member of the side's own family: the side maps
+    // onto itself only in part, and the capped whole is not a symmetry under it.
+    bool is_member_up_to_slides(ContinuousFamily family, const Transformation& T) const {
+        if (family.kind == ContinuousKind::Rotational) family.slides_along_axis = true;
+        return is_member(family, T, mode_slack_distance_, mode_slack_degrees_);
+    }
+
     // Whether what the candidate's votes say is already known (see the class comment);
     // a relation already reported is credited with the votes of this cluster too.
     bool explained(const Candidate& candidate) {
         for (size_t k = 0; k < findings_.families.size(); ++k)
-            if (is_member(findings_.families[k], candidate.transform, mode_slack_distance_, mode_slack_degrees_) &&
+            if (is_member_up_to_slides(findings_.families[k], candidate.transform) &&
                 share_of_votes_between(candidate, endpoints_, family_flags_[k], family_flags_[k]) >= 0.5) {
                 findings_.family_support[k] += candidate.height;
                 ++skipped_members_;
@@ -482,6 +491,20 @@ private:
         findings_.discrete.push_back(std::move(found));
     }
 
+    // An axis's point moved to the middle of the patch's span along the axis, where the
+    // mirror normal to the axis that maps the whole patch passes (see is_member).
+    void centre_on_patch(ContinuousFamily& family) const {
+        if (family.kind != ContinuousKind::Rotational && family.kind != ContinuousKind::Helical) return;
+        if (family.vertices.empty()) return;
+        double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
+        for (int v : family.vertices) {
+            const double t = (mesh_.positions[size_t(v)] - family.point).dot(family.direction);
+            lo = std::min(lo, t);
+            hi = std::max(hi, t);
+        }
+        family.point += family.direction * (0.5 * (lo + hi));
+    }
+
     // A family found twice (two members of one surface of revolution) is one family.
     void record_family(ContinuousFamily family, int support) {
         for (size_t k = 0; k < findings_.families.size(); ++k)
@@ -491,10 +514,12 @@ private:
                 std::set_union(known.begin(), known.end(), family.vertices.begin(), family.vertices.end(),
                                std::back_inserter(merged));
                 known.swap(merged);
+                centre_on_patch(findings_.families[k]);
                 family_flags_[k] = flags(mesh_.vertex_count(), known);
                 findings_.family_support[k] += support;
                 return;
             }
+        centre_on_patch(family);
         family_flags_.push_back(flags(mesh_.vertex_count(), family.vertices));
         findings_.families.push_back(std::move(family));
         findings_.family_support.push_back(support);
@@ -556,8 +581,12 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     // then the rest.  A large verified symmetry (a model's global mirror) leaves many
     // clusters of near-misses on its own patches; in vote order they would spend the
     // verification budget before the cluster of a small repeated part elsewhere.
+    // The first pass may spend only part of the budget: on a model whose unexplained rest
+    // is all near-misses, the second pass must still reach the large symmetries' neighbours
+    // (a torus's equatorial mirror beside its rotational family).
+    const size_t first_pass_budget = size_t(options.first_pass_share * double(max_verified));
     for (int pass = 0; pass < 2; ++pass)
-        for (size_t i = 0; i < candidates.size() && !verifier.done(max_verified); ++i) {
+        for (size_t i = 0; i < candidates.size() && !verifier.done(pass == 0 ? first_pass_budget : max_verified); ++i) {
             if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
             if (pass == 0 && verifier.inside_explained_patches(candidates[i])) continue;
             if (!verifier.consider(candidates[i])) continue;

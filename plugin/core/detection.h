@@ -38,6 +38,10 @@ struct DetectionOptions {
     double signature_tolerance = 0.05;  ///< range-query radius in Ω (§2.2), dimensionless
     double cluster_bandwidth = 0.04;    ///< h of mean shift (§3.1), fraction of the diagonal in Γ's metric
     int min_cluster_support = 6;        ///< smallest cluster height worth verifying
+    /// Share of the clusters verified that may go first to those whose votes lie outside
+    /// every patch found so far (a small part beside a large mirror-symmetric body), in
+    /// (0, 1]; the rest follow in vote order.
+    double first_pass_share = 0.5;
     double verification_tolerance = 0.01;  ///< distance accepted in region growing (§4), fraction of the diagonal
     double min_patch_area = 0.01;       ///< smallest reported patch, fraction of the total area
     int max_symmetries = 20;            ///< at most this many symmetries are reported

@@ -36,10 +36,11 @@ struct VerificationOptions {
     /// mesh neighbours), which removes noise and keeps what is smooth.  Its RMS must stay
     /// below a fraction of the tolerance: this one for a patch of at least
     /// `large_patch_area` (measured: 0.15-0.18 on the imperfect mirrors of a scanned elk and
-    /// helmet, at most 0.07 on ten other real models, 0.32 on a scanned mannequin; 0.24-0.30
-    /// on the near-mirrors and half-turns of smooth random blobs, a bumpy hull and two fused
-    /// copies of a blob, which hold everywhere but nowhere closely), ...
-    double max_systematic_deviation = 0.2;
+    /// helmet, at most 0.07 on ten other real models, 0.32 on a scanned mannequin; 0.26-0.30
+    /// on the near-mirrors of a smooth random blob and of a bumpy hull, which hold
+    /// everywhere but nowhere closely; 0.24 on a torus's mirror whose patch spills onto the
+    /// parts beside it), ...
+    double max_systematic_deviation = 0.25;
     /// ... and this one for a patch of no area, in between with the square of the area.
     /// Noise on a true copy averages out; two unrelated smooth patches that merely touch do
     /// not: their gap grows smoothly from 0 at the contact to the tolerance at the border

@@ -1,0 +1,84 @@
+"""Regression tests of the detector on the hard scenes of tests/scenes.py (issue 5):
+approximate copies, continuous families reported once, small parts, creases, copies fused
+into one surface.
+
+Each test runs the filter with its DEFAULT parameters (plus the scene's own filter_params)
+and scores the answer with metrics.AccuracyScorer against ground truth the detector did
+not produce: the planted transforms, the analytic families and the brute-force oracle.
+The full table over every scene is tests/benchmarks/accuracy.py; these are the scenes the
+detector is required to keep.
+"""
+import os
+import sys
+
+import numpy as np
+import pytest
+
+TESTS_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, TESTS_DIR)
+import metrics  # noqa: E402
+import scenes  # noqa: E402
+
+_cache = {}
+
+
+def scored(name):
+    """(scene, result, figures) of one scene at seed 0, computed once per session."""
+    if name not in _cache:
+        s = scenes.make_scene(name, 0)
+        res = metrics.run_filter(s, **dict(s.filter_params, create_patch_layers=True))
+        _cache[name] = (s, res, metrics.accuracy(s, res))
+    return _cache[name]
+
+
+def labels(fig):
+    return [f"#{r['index']} {r['label']} {r['matched'] or ''} {r['note'] or ''}" for r in fig["reports"]]
+
+
+# Every required relation and family found, every report correct (or confirmed by the
+# oracle), no report of a family's member beside the family.
+# (Not yet here, see the README's accuracy table: noisy_both_0.5, whose copy is missed, and
+# the boat, whose cylindrical mast is not reported as a rotational family.)
+EXACT = ("noisy_both_0.1", "noisy_both_0.2", "holes", "anisotropic", "fine_row",
+         "small_part_1pct", "scaled_cow", "scaled_torus", "poisson_fused", "thin_plate",
+         "cylinder", "cone", "vase", "extrusion", "helix", "box", "sphere", "torus", "torus_pair",
+         "wingnut", "hammer")
+
+
+@pytest.mark.parametrize("name", EXACT)
+def test_every_relation_found_and_nothing_else(name):
+    s, res, fig = scored(name)
+    assert fig["found"] == fig["required"], (fig["missed"], labels(fig))
+    assert fig["counts"]["false"] == 0, labels(fig)
+    assert fig["counts"]["member"] == 0, labels(fig)
+
+
+@pytest.mark.parametrize("name", ("cylinder", "vase", "torus", "helix", "extrusion"))
+def test_a_continuous_family_is_one_report_with_its_axis(name):
+    s, res, fig = scored(name)
+    families = [r for r in fig["reports"] if r["kind"] != scenes.KIND_DISCRETE]
+    kinds = {f.kind for f in s.required_families()}
+    assert {r["kind"] for r in families if r["label"] == "correct"} >= kinds, labels(fig)
+    # one report per family: the scorer marks a second one as a duplicate
+    assert fig["counts"]["duplicate"] == 0, labels(fig)
+
+
+def test_approximate_copies_are_graded_not_discarded():
+    """Noise of 0.2 % of the diagonal on both copies: the copy is found, and its deviation
+    from perfect symmetry is measured (non-zero, of the order of the noise) rather than
+    hidden."""
+    s, res, fig = scored("noisy_both_0.2")
+    correct = [r["index"] for r in fig["reports"] if r["label"] == "correct"]
+    assert correct, labels(fig)
+    rms = [res.rms_errors[k] for k in correct]
+    assert 0.0005 < max(rms) < 0.01, rms
+    # the per-vertex quality carries the deviation on the patch
+    quality = res.quality
+    assert np.count_nonzero(quality) > 0
+
+
+def test_small_part_beside_a_large_surface_at_the_defaults():
+    s, res, fig = scored("small_part_1pct")
+    assert not fig["missed"], labels(fig)
+    areas = [res.source_areas[r["index"]] for r in fig["reports"] if r["label"] == "correct"]
+    assert min(areas) < 0.02, areas  # the small part itself, not only the base's mirror
