@@ -196,7 +196,12 @@ bool is_member(const ContinuousFamily& f, const Transformation& T, double tolera
         return !(mirror_normal_to_axis && (!f.slides_along_axis || through_middle));
     }
     case ContinuousKind::Translational: {
-        if (std::abs(image.dot(f.direction)) < parallel) return false;
+        // The members are the slides along the direction: no turn, no mirror (a mirror
+        // across a plane along an extrusion maps it onto itself only if its profile is
+        // mirror-symmetric, which is a discrete symmetry of its own).
+        if (T.reflection) return false;
+        const Eigen::Matrix3d turn = T.linear() / T.scale;
+        if (std::clamp((turn.trace() - 1) / 2, -1.0, 1.0) < parallel) return false;
         const Eigen::Vector3d shift = T.apply(f.point) - f.point;
         return (shift - f.direction * f.direction.dot(shift)).norm() <= tolerance;
     }

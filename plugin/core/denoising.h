@@ -33,6 +33,9 @@ struct DenoisingOptions {
     /// averaged noise falls to a fiftieth of ρ, so its curvature stays below a fiftieth of
     /// the signature tolerance's scale (noise σ averaged over (ρ/e)² vertices is σe/ρ).
     double smoothing_radius_factor = 7;
+    /// The curvature ball r grows to the smoothing radius ρ when ρ exceeds it, up to this
+    /// fraction of the bounding-box diagonal.
+    double max_radius_for_noise = 0.03;
     int max_smoothing_steps = 300;  ///< explicit diffusion steps at most
     int max_vertices_measured = 20000;  ///< the noise is estimated on at most this many vertices
 };

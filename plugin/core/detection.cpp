@@ -45,6 +45,7 @@ struct Model {
     std::vector<int> vertex_of_input;  // row in V of every core vertex
     double diagonal = 0, total_area = 0;
     double radius = 0;  // the curvature ball's radius r (§2), absolute units
+    double noise = 0;   // estimated noise (denoising.h), absolute units
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     const Mesh& analysed() const { return smoothed ? *smoothed : input; }
 };
@@ -63,9 +64,17 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
     result.curvature_radius = model.radius / model.diagonal;
     const NoiseEstimate noise = estimate_noise(neighbourhoods, options.denoising);
     result.noise = noise.noise / model.diagonal;
+    model.noise = noise.noise;
     // Never blur beyond the curvature ball: what it would remove is the shape the
-    // signatures are meant to describe.
-    const double radius = std::min(smoothing_radius(noise, options.denoising), model.radius);
+    // signatures are meant to describe.  Where the noise needs more blur than the ball
+    // holds, the ball grows with it (up to max_radius_for_noise): a larger ball is what
+    // the paper's §6 proposes for noisy data, and smaller features are lost to the noise.
+    double radius = smoothing_radius(noise, options.denoising);
+    if (radius > model.radius) {
+        model.radius = std::max(model.radius, std::min(radius, options.denoising.max_radius_for_noise * model.diagonal));
+        result.curvature_radius = model.radius / model.diagonal;
+    }
+    radius = std::min(radius, model.radius);
     if (radius > 0) {
         model.smoothed = std::make_unique<Mesh>();
         vcg::tri::Append<Mesh, Mesh>::MeshCopy(*model.smoothed, model.input);
@@ -264,6 +273,7 @@ public:
         vo_.tolerance = options.verification_tolerance * model.diagonal;
         vo_.min_patch_area = options.min_patch_area * model.total_area;
         vo_.large_patch_area = 0.5 * model.total_area;
+        if (model.smoothed) vo_.noise = model.noise;
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;
         vo_.group = options.group;

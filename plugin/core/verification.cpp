@@ -234,7 +234,7 @@ bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, Verified
     const double largeness = options.large_patch_area > 0 ? std::min(1.0, s.source_area / options.large_patch_area) : 1.0;
     const double bound = options.max_systematic_deviation_small +
                          largeness * largeness * (options.max_systematic_deviation - options.max_systematic_deviation_small);
-    return s.systematic_error <= bound * options.tolerance;
+    return s.systematic_error <= bound * options.tolerance + options.systematic_noise_allowance * options.noise;
 }
 
 // Step 5: the target patch, the vertices w whose preimage T⁻¹(w) lands on a face of the
