@@ -202,18 +202,22 @@ std::vector<int> spatial_order(const std::vector<SurfaceSample>& samples) {
 }  // namespace
 
 // What the tensor needs of the mesh, read once: faces, edges with their dihedral
-// angles, and a tree over edge midpoints.  An edge meets the ball only if its midpoint
-// is within radius + half its length, so querying with half the longest edge finds
-// them all; the exact clip rejects the extra ones.
+// angles, and a tree over the midpoints of edge pieces.  A piece meets the ball only if
+// its midpoint is within radius + half its length, so querying with the longest half
+// piece finds them all; the exact clip rejects the extra ones.  Edges longer than twice
+// the median are cut into pieces no longer than that: on a coarse CAD tessellation one
+// long edge would otherwise widen every query of the mesh (and a copy of it tessellated
+// finely beside it would be searched over thousands of edges per sample).
 struct CurvatureEstimator::Data {
     std::vector<FaceData> faces;
     std::vector<Edge> edges;
     std::unique_ptr<KdTree> tree;
-    double half_longest = 0;
-    // Work space reused across samples: the faces met by the current ball, and a
-    // per-face stamp that lists each face once without clearing.
-    std::vector<int> stamp;
-    std::vector<int> ball_faces;
+    std::vector<int> edge_of_piece;
+    double half_piece = 0;
+    // Work space reused across samples: the faces and edges met by the current ball, and
+    // per-face and per-edge stamps that list each once without clearing.
+    std::vector<int> stamp, edge_stamp;
+    std::vector<int> ball_faces, ball_edges;
     int next_stamp = 0;
 };
 
@@ -221,14 +225,31 @@ CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_uniqu
     Data& d = *data_;
     d.faces = read_faces(mesh);
     d.edges = read_edges(mesh, d.faces);
-    KdTree::Points midpoints(Eigen::Index(d.edges.size()), 3);
-    for (size_t i = 0; i < d.edges.size(); ++i) {
-        midpoints.row(Eigen::Index(i)) = (0.5 * (d.edges[i].p0 + d.edges[i].p1)).transpose();
-        d.half_longest = std::max(d.half_longest, 0.5 * (d.edges[i].p1 - d.edges[i].p0).norm());
+    std::vector<double> lengths;
+    lengths.reserve(d.edges.size());
+    for (const Edge& e : d.edges) lengths.push_back((e.p1 - e.p0).norm());
+    double piece = 0;
+    if (!lengths.empty()) {
+        std::vector<double> sorted = lengths;
+        std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+        piece = 2 * sorted[sorted.size() / 2];
     }
-    d.tree = std::make_unique<KdTree>(std::move(midpoints));
+    std::vector<Eigen::Vector3d> midpoints;
+    for (size_t i = 0; i < d.edges.size(); ++i) {
+        const int pieces = piece > 0 ? std::max(1, int(std::ceil(lengths[i] / piece))) : 1;
+        for (int k = 0; k < pieces; ++k) {
+            midpoints.push_back(d.edges[i].p0 + ((k + 0.5) / pieces) * (d.edges[i].p1 - d.edges[i].p0));
+            d.edge_of_piece.push_back(int(i));
+        }
+        d.half_piece = std::max(d.half_piece, 0.5 * lengths[i] / pieces);
+    }
+    KdTree::Points points(Eigen::Index(midpoints.size()), 3);
+    for (size_t i = 0; i < midpoints.size(); ++i) points.row(Eigen::Index(i)) = midpoints[i].transpose();
+    d.tree = std::make_unique<KdTree>(std::move(points));
     d.stamp.assign(d.faces.size(), -1);
+    d.edge_stamp.assign(d.edges.size(), -1);
     d.ball_faces.reserve(256);
+    d.ball_edges.reserve(256);
 }
 
 CurvatureEstimator::~CurvatureEstimator() = default;
@@ -256,7 +277,18 @@ SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radi
     };
     // The ball may lie inside the sample's face without meeting an edge.
     if (face_ok) add_face(sample.face);
-    for (int index : d.tree->radius_search(c.data(), radius + d.half_longest)) {
+    // The edges of the pieces found, each once, in increasing order: the sum below is
+    // then the same whatever order the tree returns them in.
+    d.ball_edges.clear();
+    for (int index : d.tree->radius_search(c.data(), radius + d.half_piece, false)) {
+        const int edge = d.edge_of_piece[size_t(index)];
+        if (d.edge_stamp[size_t(edge)] != s) {
+            d.edge_stamp[size_t(edge)] = s;
+            d.ball_edges.push_back(edge);
+        }
+    }
+    std::sort(d.ball_edges.begin(), d.ball_edges.end());
+    for (int index : d.ball_edges) {
         const Edge& e = d.edges[size_t(index)];
         double length = segment_length_in_ball(e.p0, e.p1, c, radius);
         if (length <= 0) continue;
