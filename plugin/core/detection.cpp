@@ -489,6 +489,7 @@ private:
             record_family(std::move(family), support);
             if (member) return;
         }
+        if (s.small_motion) return;  // a slide along the surface, not a discrete symmetry
         for (auto& f : findings_.discrete)
             if (same_relation(s.transform, f.symmetry.transform)) { f.support += support; return; }
         Found found{std::move(s), support, false, {}, {}};

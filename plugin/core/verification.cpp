@@ -219,7 +219,9 @@ bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, Verified
         displacement2 += (s.transform.apply(p) - p).squaredNorm();
     }
     const double count = double(s.source_vertices.size());
-    if (std::sqrt(displacement2 / count) < options.min_displacement) return false;
+    const double moved = std::sqrt(displacement2 / count);
+    if (moved < options.tolerance) return false;
+    s.small_motion = moved < options.min_displacement;
     std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
     s.source_area = area_of(mesh, s.source_vertices, scratch);
     if (s.source_area < options.min_patch_area) return false;

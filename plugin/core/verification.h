@@ -27,7 +27,9 @@ struct VerificationOptions {
     double tolerance = 0;        ///< largest distance of T(v) to the surface, absolute units
     double min_patch_area = 0;   ///< smallest area of a connected source patch worth keeping, absolute units
     double min_displacement = 0; ///< a transformation that moves its patch less than this (RMS, absolute
-                                 ///< units) is a continuous self-map of the surface, not a symmetry; rejected
+                                 ///< units) is a continuous self-map of the surface, not a discrete
+                                 ///< symmetry: marked small_motion (one that moves it less than the
+                                 ///< tolerance is the identity: rejected)
     bool refine_with_icp = true; ///< re-fit T to the matched vertices while the patch grows (§4)
     TransformationGroup group = TransformationGroup::Rigid;  ///< ICP stays inside this group
     double normal_agreement_degrees = 45;  ///< see RegionGrowingOptions
@@ -93,6 +95,9 @@ struct VerifiedSymmetry {
     double max_error = 0;                 ///< largest |source_deviation|, absolute units
     double systematic_error = 0;          ///< RMS of the locally averaged deviation, absolute units
     double source_area = 0;               ///< area of the faces whose three vertices are in the source patch
+    /// T moves the patch less than min_displacement: a slide along a continuous self-map (a
+    /// turn of a thin cylinder about its axis), which is a family's member, not a symmetry.
+    bool small_motion = false;
 };
 
 /// Verifies the candidate `mode` from its seeds (steps 1-5 above).  The result does not
