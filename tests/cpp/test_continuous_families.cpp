@@ -110,6 +110,29 @@ TEST(ContinuousFamilies, MembersAreTheFamilysOwnMotions) {
     ContinuousFamily cylinder_family = torus_family;  // ...but not a cylinder
     cylinder_family.slides_along_axis = true;
     EXPECT_TRUE(is_member(cylinder_family, along, tol, degrees));
+    // Where the surface slides, a mirror normal to the axis maps it only locally, except
+    // the one through the middle of the patch (the family's point): a capped cylinder's
+    // mid-plane mirror is a discrete symmetry of its own.
+    EXPECT_FALSE(is_member(cylinder_family, equator, tol, degrees));
+    Transformation higher = Transformation::from_linear(Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d(0, 0, 0.4));
+    EXPECT_TRUE(is_member(cylinder_family, higher, tol, degrees));
+}
+
+TEST(ContinuousFamilies, AnExtrusionsMembersAreItsSlides) {
+    ContinuousFamily prism;  // an extrusion along z through the origin
+    prism.kind = ContinuousKind::Translational;
+    prism.direction = Eigen::Vector3d::UnitZ();
+    prism.extent = 1;
+    const double tol = 1e-3, degrees = 1;
+    Transformation slide;
+    slide.translation = Eigen::Vector3d(0, 0, 0.7);
+    EXPECT_TRUE(is_member(prism, slide, tol, degrees));
+    Transformation mirror;  // across x = 0, a plane along the extrusion: a symmetry of the profile
+    mirror.reflection = true;
+    EXPECT_FALSE(is_member(prism, mirror, tol, degrees));
+    Transformation turn;  // a half-turn about the direction
+    turn.rotation = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    EXPECT_FALSE(is_member(prism, turn, tol, degrees));
 }
 
 TEST(ContinuousFamilies, FiniteMembersHoldOnlyOnTrueFamilies) {
