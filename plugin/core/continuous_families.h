@@ -100,8 +100,8 @@ struct ContinuousFamilyOptions {
     /// ...is reported only if it covers at least this fraction of every family it touches
     /// (see drop_partial_family_relations in detection.cpp).
     double min_family_coverage = 0.8;
-    /// A discrete symmetry that is a member of a family (a mirror through the axis of a
-    /// wingnut's hub) and whose patch lies on that family's patch for at least this share of
+    /// A discrete symmetry that is a member of a rotational or helical family (a mirror
+    /// through the axis of a wingnut's hub) and whose patch lies on that family's patch for at least this share of
     /// its vertices is that family, spilled a little onto the parts beside it: not reported.
     double min_member_share = 0.5;
 };

@@ -229,6 +229,8 @@ struct Findings {
     std::vector<Found> discrete;
     std::vector<ContinuousFamily> families;
     std::vector<int> family_support;               // votes of its members
+    std::vector<FamilyCheck> family_checks;        // see Verifier::check_families
+    std::vector<char> family_holds;                // its finite members hold: it is reported
 };
 
 // The share of a candidate's votes whose two samples both lie in `first` and `second`
@@ -368,6 +370,21 @@ public:
     /// itself) is a family member composed with another: not reported.  One that maps whole
     /// families onto whole families (a box's mirror, a copy of a cylinder) is.  Applied once
     /// every family is known.
+    /// A family is reported when its finite members hold; a merely slippable patch (a
+    /// fillet, a tubular ear) only keeps its members from being reported.
+    void check_families() {
+        for (const ContinuousFamily& family : findings_.families) {
+            FamilyCheck check = check_members(mesh_, surface_, family, vo_.tolerance);
+            const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
+            const double max_median = shape ? options_.continuous.max_shape_member_median_deviation
+                                            : options_.continuous.max_member_median_deviation;
+            findings_.family_holds.push_back(check.coverage >= options_.continuous.min_member_coverage &&
+                                             check.median_deviation <= max_median * vo_.tolerance);
+            findings_.family_checks.push_back(std::move(check));
+        }
+    }
+
+    /// (After check_families: only the families that hold count.)
     void drop_partial_family_relations() {
         auto partial = [&](const std::vector<int>& patch) {
             if (patch.empty()) return false;
@@ -376,7 +393,7 @@ public:
             for (int v : patch) {
                 bool on = false;
                 for (size_t k = 0; k < findings_.families.size(); ++k)
-                    if (family_flags_[k][size_t(v)]) { ++inside[k]; on = true; }
+                    if (findings_.family_holds[k] && family_flags_[k][size_t(v)]) { ++inside[k]; on = true; }
                 on_families += on;
             }
             if (double(on_families) < options_.continuous.min_family_share * double(patch.size())) return false;
@@ -386,8 +403,13 @@ public:
                     return true;
             return false;
         };
+        // Only about an axis: a mirror across a plane normal to a flat face is that face's
+        // member too, yet a plate's outline may be mirror-symmetric in its own right.
         auto spilled_member = [&](const VerifiedSymmetry& s) {
             for (size_t k = 0; k < findings_.families.size(); ++k) {
+                const ContinuousKind kind = findings_.families[k].kind;
+                if (!findings_.family_holds[k]) continue;
+                if (kind != ContinuousKind::Rotational && kind != ContinuousKind::Helical) continue;
                 if (!is_member(findings_.families[k], s.transform, vo_.tolerance,
                                options_.continuous.axis_agreement_degrees))
                     continue;
@@ -611,6 +633,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
             reclustering += seconds;
             i = size_t(-1);  // from the top: what was verified already is skipped as tried
         }
+    verifier.check_families();
     verifier.drop_partial_family_relations();
     result.seconds_verification = seconds_since(start) - reclustering;
     return verifier.take_findings(result);
@@ -746,18 +769,10 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
         supports.push_back(f.support);
         family_of.push_back(nullptr);
     }
-    // A family is reported when its finite members hold; a merely slippable patch (a
-    // fillet, a tubular ear) only keeps its members from being reported.
     int families = 0;
     for (size_t k = 0; k < findings.families.size() && families < options.max_symmetries; ++k) {
-        const FamilyCheck check = check_members(neighbourhoods, analysed_surface, findings.families[k], tolerance);
-        const ContinuousKind kind = findings.families[k].kind;
-        const bool shape = kind == ContinuousKind::Planar || kind == ContinuousKind::Spherical;
-        const double max_median = shape ? options.continuous.max_shape_member_median_deviation
-                                        : options.continuous.max_member_median_deviation;
-        if (check.coverage < options.continuous.min_member_coverage || check.median_deviation > max_median * tolerance)
-            continue;
-        VerifiedSymmetry family = family_as_symmetry(findings.families[k], check, neighbourhoods);
+        if (!findings.family_holds[k]) continue;
+        VerifiedSymmetry family = family_as_symmetry(findings.families[k], findings.family_checks[k], neighbourhoods);
         // Refinement by slippage may have shrunk the patch grown from a pruned sample.
         if (family.source_area < options.min_patch_area * model.total_area) continue;
         reported.push_back(std::move(family));

@@ -9,6 +9,8 @@
   themselves as soon as the pipeline lands.
 - ``mirror_symmetric_mesh()``: (V, F) of a closed surface whose only symmetry is the
   mirror x -> -x, with curvature that varies everywhere (no umbilic plateaus).
+- ``real_model_set``: the real models of tests/real_models.json by name, fetched once
+  per session (a failed fetch fails the tests that need them, with the fetch's reason).
 """
 import numpy as np
 import pymeshlab
@@ -102,3 +104,15 @@ def pipeline_built():
 def requires_pipeline(pipeline_built):
     if not pipeline_built:
         pytest.skip("the core's detection pipeline is not built yet")
+
+
+@pytest.fixture(scope="session")
+def real_model_set():
+    import os
+    import sys
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    import real_models
+    try:
+        return {m.name: m for m in real_models.real_models()}
+    except RuntimeError as e:
+        pytest.fail(str(e))
