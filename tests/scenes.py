@@ -1229,7 +1229,8 @@ def _fused_union(shape: StarShape, T: np.ndarray, rng: np.random.Generator, dept
     ms = pymeshlab.MeshSet()
     ms.add_mesh(pymeshlab.Mesh(vertex_matrix=np.concatenate(P),
                                v_normals_matrix=np.concatenate(N)))
-    ms.generate_surface_reconstruction_screened_poisson(depth=depth, preclean=True)
+    # One thread: with more, the reconstruction differs from run to run.
+    ms.generate_surface_reconstruction_screened_poisson(depth=depth, preclean=True, threads=1)
     ms.meshing_remove_connected_component_by_face_number(mincomponentsize=1000)
     ms.meshing_remove_unreferenced_vertices()
     m = ms.current_mesh()
