@@ -11,6 +11,8 @@
   mirror x -> -x, with curvature that varies everywhere (no umbilic plateaus).
 - ``real_model_set``: the real models of tests/real_models.json by name, fetched once
   per session (a failed fetch fails the tests that need them, with the fetch's reason).
+- ``cgal_dir``: the folder of CGAL's CAD meshes (tests/fetch_cgal_meshes.sh), fetched once
+  per session if missing, likewise.
 """
 import numpy as np
 import pymeshlab
@@ -116,3 +118,26 @@ def real_model_set():
         return {m.name: m for m in real_models.real_models()}
     except RuntimeError as e:
         pytest.fail(str(e))
+
+
+def cgal_meshes_dir():
+    """The folder of CGAL's CAD meshes, fetched by tests/fetch_cgal_meshes.sh if missing;
+    a failed fetch fails the calling test with the script's output."""
+    import os
+    import subprocess
+    import sys
+    tests = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, tests)
+    import scenes
+    d = os.environ.get("SYMMETRY_CGAL_DIR") or scenes.DEFAULT_CGAL_DIR
+    if not scenes.cad_meshes_available(d):
+        script = os.path.join(tests, "fetch_cgal_meshes.sh")
+        proc = subprocess.run([script, d], capture_output=True, text=True)
+        if proc.returncode != 0:
+            pytest.fail(f"{script} failed:\n{proc.stdout}{proc.stderr}")
+    return d
+
+
+@pytest.fixture(scope="session")
+def cgal_dir():
+    return cgal_meshes_dir()

@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.join(TESTS_DIR, "python"))
 import metrics  # noqa: E402
 import oracle  # noqa: E402
 import scenes  # noqa: E402
+from conftest import cgal_meshes_dir  # noqa: E402
 
 SLOW = ("poisson_fused",)
 CAD = tuple(n for n in scenes.HARD_SCENE_NAMES if n in scenes.NEEDS_CAD_MESHES)
@@ -31,16 +32,9 @@ slow = pytest.mark.skipif(not os.environ.get("SYMMETRY_SLOW_TESTS"),
                           reason="slow scene: set SYMMETRY_SLOW_TESTS=1")
 
 
-def _cad_dir():
-    d = os.environ.get("SYMMETRY_CGAL_DIR") or scenes.DEFAULT_CGAL_DIR
-    if not scenes.cad_meshes_available(d):
-        pytest.skip(f"CAD meshes not in {d} (tests/fetch_cgal_meshes.sh)")
-    return d
-
-
 @functools.lru_cache(maxsize=None)
 def scene(name):
-    kw = {"cgal_dir": _cad_dir()} if name in scenes.NEEDS_CAD_MESHES else {}
+    kw = {"cgal_dir": cgal_meshes_dir()} if name in scenes.NEEDS_CAD_MESHES else {}
     return scenes.make_scene(name, 0, **kw)
 
 

@@ -230,19 +230,9 @@ def test_moved_input_gives_the_moved_answer(name):
         assert d <= 2 * metrics.RECALL_TOL, f"{a.name}: moved answer differs by {d:.4f}"
 
 
-def _cad_dir():
-    d = os.environ.get("SYMMETRY_CGAL_DIR") or scenes.DEFAULT_CGAL_DIR
-    if not scenes.cad_meshes_available(d):
-        script = os.path.join(TESTS_DIR, "fetch_cgal_meshes.sh")
-        proc = subprocess.run([script, d], capture_output=True, text=True)
-        assert proc.returncode == 0, f"{script} failed:\n{proc.stdout}{proc.stderr}"
-    return d
-
-
-def test_cad_fandisk_copies_are_found():
+def test_cad_fandisk_copies_are_found(cgal_dir):
     skip_if_not_built()
-    d = _cad_dir()
-    s = scenes.make_scene("cad_fandisk", SEED, cgal_dir=d)
+    s = scenes.make_scene("cad_fandisk", SEED, cgal_dir=cgal_dir)
     res = detect(s)
     assert_planted_found(s, res)
     k = matched_index(s, res, [x for x in s.symmetries if x.name == "mirror"][0])

@@ -10,6 +10,7 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import metrics  # noqa: E402
 import scenes  # noqa: E402
+from conftest import cgal_meshes_dir  # noqa: E402
 
 _CACHE = {}
 
@@ -289,18 +290,8 @@ def test_metrics_small_patch_mapped_elsewhere_is_wrong():
 
 # ------------------------------------------------------------------------------ CAD data --
 
-def _cad_dir():
-    import subprocess
-    d = os.environ.get("SYMMETRY_CGAL_DIR") or scenes.DEFAULT_CGAL_DIR
-    if not scenes.cad_meshes_available(d):
-        script = os.path.join(os.path.dirname(scenes.__file__), "fetch_cgal_meshes.sh")
-        proc = subprocess.run([script, d], capture_output=True, text=True)
-        assert proc.returncode == 0, f"{script} failed:\n{proc.stdout}{proc.stderr}"
-    return d
-
-
 def test_cad_scene_copies_are_retessellated_and_faithful():
-    s = scenes.make_scene("cad_fandisk", 0, cgal_dir=_cad_dir())
+    s = scenes.make_scene("cad_fandisk", 0, cgal_dir=cgal_meshes_dir())
     assert 20000 <= s.triangle_count <= 80000
     rng = np.random.default_rng(0)
     for part, (src, T, tol) in s.copies.items():
@@ -319,6 +310,6 @@ def test_demo_mesh_is_the_cad_demo_scene():
     ms = pymeshlab.MeshSet()
     ms.load_new_mesh(path)
     m = ms.current_mesh()
-    s = scenes.make_scene(*scenes.DEMO_SCENE, cgal_dir=_cad_dir())
+    s = scenes.make_scene(*scenes.DEMO_SCENE, cgal_dir=cgal_meshes_dir())
     assert m.face_number() == s.triangle_count
     assert np.allclose(m.vertex_matrix(), s.vertices, atol=1e-12)
