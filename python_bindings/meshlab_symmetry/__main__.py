@@ -22,6 +22,8 @@ GROUPS = {"rigid": 0, "similarity": 1, "reflections": 2, "translations": 3}
 
 
 def _kind(edge):
+    if edge.get("continuous_kind", "discrete") != "discrete":
+        return f"{edge['continuous_kind']} family"
     if edge["is_reflection"]:
         return "reflection"
     if abs(edge["scale"] - 1) > 1e-6:
@@ -41,7 +43,7 @@ def _table(result, graph):
     lines = [f"{graph['symmetry_count']} symmetries, {len(graph['generators'])} generators, "
              f"{len(nodes)} patches"]
     if graph["edges"]:
-        lines.append(f"{'#':>3}  {'kind':<11} {'source -> target':<24} {'scale':>7} {'rms %diag':>9} "
+        lines.append(f"{'#':>3}  {'kind':<20} {'source -> target':<24} {'scale':>7} {'rms %diag':>9} "
                      f"{'area %':>7} {'support':>7}  basis")
         for e in graph["edges"]:
             s, t = nodes[e["source"]], nodes[e["target"]]
@@ -49,7 +51,7 @@ def _table(result, graph):
             if len(patches) > 24:
                 patches = f"p{s['id']}({s['vertex_count']}) -> p{t['id']}({t['vertex_count']})"
             basis = "generator" if e["is_generator"] else _word(e["word"])
-            lines.append(f"{e['symmetry']:>3}  {_kind(e):<11} {patches:<24} {e['scale']:>7.4f} "
+            lines.append(f"{e['symmetry']:>3}  {_kind(e):<20} {patches:<24} {e['scale']:>7.4f} "
                          f"{100 * e['rms_error']:>9.3f} {100 * s['area_fraction']:>7.2f} {e['support']:>7}  {basis}")
     times = [(name, float(result.get(f"seconds_{name}", 0.0)))
              for name in ("signatures", "pairing", "clustering", "verification")]

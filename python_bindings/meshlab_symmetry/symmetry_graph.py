@@ -11,6 +11,8 @@ import json
 import numpy as np
 
 FILTER_NAME = "compute_partial_symmetries"
+#: the filter's continuous_kinds, by value
+CONTINUOUS_KINDS = ("discrete", "rotational", "translational", "helical", "planar", "spherical")
 
 
 def _vector(result, key, count, default=0.0):
@@ -80,7 +82,10 @@ def symmetry_graph(ms, result, mesh_id=None, merge_overlap=0.9):
     Returns a dict: ``nodes`` (id, name of the layer, layers, layer_ids, vertex_count,
     area_fraction), ``edges`` (one per symmetry, in result order: symmetry, source,
     target, transform as a 4x4 list, scale, is_reflection, rms_error, support,
-    is_generator, word as signed generator letters: +k is generator k-1, -k its inverse),
+    is_generator, word as signed generator letters: +k is generator k-1, -k its inverse;
+    continuous_kind, one of CONTINUOUS_KINDS, "discrete" for a discrete symmetry, and for a
+    continuous family its axis: axis_point and axis_direction (the plane's normal, zeros
+    for a sphere) and pitch),
     ``generators`` (symmetry indices) and ``symmetry_count``.
     """
     count = int(result["symmetry_count"])
@@ -96,6 +101,9 @@ def symmetry_graph(ms, result, mesh_id=None, merge_overlap=0.9):
     supports = _vector(result, "supports", count)
     generator_flags = _vector(result, "is_generator", count, 1.0)
     words = _vector(result, "basis_words", 0)
+    kinds = _vector(result, "continuous_kinds", count)
+    axes = _vector(result, "continuous_axes", 6 * count)
+    pitches = _vector(result, "continuous_pitches", count)
     letters = len(words) // count if count else 0
 
     nodes, node_sets = [], []
@@ -135,7 +143,11 @@ def symmetry_graph(ms, result, mesh_id=None, merge_overlap=0.9):
             "support": int(supports[k]),
             "is_generator": bool(generator_flags[k]),
             "word": word,
+            "continuous_kind": CONTINUOUS_KINDS[int(kinds[k])],
         })
+        if kinds[k] != 0:
+            edges[-1].update(axis_point=axes[6 * k:6 * k + 3].tolist(),
+                             axis_direction=axes[6 * k + 3:6 * k + 6].tolist(), pitch=float(pitches[k]))
     return {
         "symmetry_count": count,
         "nodes": nodes,

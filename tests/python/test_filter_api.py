@@ -314,3 +314,17 @@ def test_cli_writes_mesh_and_graph(requires_pipeline, tmp_path):
     out.load_new_mesh(str(tmp_path / "bumpy.symmetry.ply"))
     assert out.current_mesh().vertex_number() == ms.current_mesh().vertex_number()
     assert out.current_mesh().has_vertex_scalar() and out.current_mesh().has_vertex_color()
+
+
+def test_a_sphere_is_one_spherical_family_in_the_graph_and_the_table():
+    """A sphere's symmetries are one continuous family: reported once, with its centre, in
+    the filter's outputs, the symmetry graph and the command line's table."""
+    V, F = sphere(5)
+    ms = make_meshset(V + np.array([0.3, -0.2, 0.5]), F)
+    result, graph = meshlab_symmetry.detect_symmetries(ms, random_seed=0)
+    kinds = np.asarray(result["continuous_kinds"]).reshape(-1)
+    assert list(kinds) == [5], kinds
+    (edge,) = graph["edges"]
+    assert edge["continuous_kind"] == "spherical"
+    assert np.allclose(edge["axis_point"], [0.3, -0.2, 0.5], atol=0.01)
+    assert json.loads(meshlab_symmetry.to_json(graph))["edges"][0]["continuous_kind"] == "spherical"
