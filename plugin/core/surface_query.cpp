@@ -36,46 +36,40 @@ struct FacingDistance {
         return facing && distance(f, p, min_distance, q);
     }
 };
-}  // namespace
 
-ClosestPoint SurfaceQuery::closest_facing(const Eigen::Vector3d& query, double max_distance,
-                                          const std::vector<Eigen::Vector3d>& normals, double min_cosine,
-                                          bool either_sign) const {
+// The closest point under vcg's grid search with the given point-face distance.
+// EmptyTMark instead of the mesh's marks: a face may be tested twice, but queries do not
+// write to the mesh, so they can later run from several threads.
+template <class Distance>
+ClosestPoint closest_under(const Mesh& mesh, vcg::GridStaticPtr<Face, double>& grid, Distance& point_face_distance,
+                           const Eigen::Vector3d& query, double max_distance) {
     ClosestPoint result;
     vcg::tri::EmptyTMark<Mesh> marker;
-    FacingDistance point_face_distance{&normals, min_cosine, either_sign, {}};
     const vcg::Point3d p(query.x(), query.y(), query.z());
     double distance = max_distance;
     vcg::Point3d nearest(0, 0, 0);
-    Face* f = grid_->grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
+    Face* f = grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
     if (f == nullptr) return result;
     result.found = true;
-    result.face = int(vcg::tri::Index(mesh_, f));
+    result.face = int(vcg::tri::Index(mesh, f));
     result.point = Eigen::Vector3d(nearest[0], nearest[1], nearest[2]);
     result.normal = Eigen::Vector3d(f->N()[0], f->N()[1], f->N()[2]).normalized();
     result.distance = (query - result.point).norm();
     result.signed_distance = (query - result.point).dot(result.normal) >= 0 ? result.distance : -result.distance;
     return result;
 }
+}  // namespace
+
+ClosestPoint SurfaceQuery::closest_facing(const Eigen::Vector3d& query, double max_distance,
+                                          const std::vector<Eigen::Vector3d>& normals, double min_cosine,
+                                          bool either_sign) const {
+    FacingDistance point_face_distance{&normals, min_cosine, either_sign, {}};
+    return closest_under(mesh_, grid_->grid, point_face_distance, query, max_distance);
+}
 
 ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_distance) const {
-    ClosestPoint result;
-    // EmptyTMark instead of the mesh's marks: a face may be tested twice, but queries
-    // do not write to the mesh, so they can later run from several threads.
-    vcg::tri::EmptyTMark<Mesh> marker;
     vcg::face::PointDistanceBaseFunctor<double> point_face_distance;
-    const vcg::Point3d p(query.x(), query.y(), query.z());
-    double distance = max_distance;
-    vcg::Point3d nearest(0, 0, 0);
-    Face* f = grid_->grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
-    if (f == nullptr) return result;
-    result.found = true;
-    result.face = int(vcg::tri::Index(mesh_, f));
-    result.point = Eigen::Vector3d(nearest[0], nearest[1], nearest[2]);
-    result.normal = Eigen::Vector3d(f->N()[0], f->N()[1], f->N()[2]).normalized();
-    result.distance = (query - result.point).norm();
-    result.signed_distance = (query - result.point).dot(result.normal) >= 0 ? result.distance : -result.distance;
-    return result;
+    return closest_under(mesh_, grid_->grid, point_face_distance, query, max_distance);
 }
 
 }  // namespace symmetry
