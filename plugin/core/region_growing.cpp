@@ -126,15 +126,13 @@ bool RegionGrower::accepts(int v, const Transformation& T, const std::vector<cha
     for (int k = mesh_.face_offsets[v]; k < mesh_.face_offsets[v + 1]; ++k)
         normals_.push_back(T.apply_to_normal(mesh_.face_normals[size_t(mesh_.faces_around[size_t(k)])]));
     const Eigen::Vector3d image = T.apply(mesh_.positions[size_t(v)]);
-    ClosestPoint nearest = surface_.closest(image, tolerance_);
-    if (!nearest.found) return false;
     // Among the faces as near as the nearest one (they meet there: a crease, or separate
     // parts touching), one whose normal agrees.  Only as near: a farther face that agrees
     // (the other side of a thin plate) is not where T(v) lands.
-    const double reach = nearest.distance + kTie * tolerance_;
-    ClosestPoint cp = surface_.closest_facing(image, reach, normals_, min_normal_cosine_, false);
-    // An open surface (a sheet) may face either way: try the other sign too.
-    if (!cp.found && any_open_) cp = surface_.closest_facing(image, reach, normals_, min_normal_cosine_, true);
+    const SurfaceQuery::Landing landing = surface_.landing(image, tolerance_, kTie * tolerance_, normals_, min_normal_cosine_);
+    if (!landing.nearest.found) return false;
+    // An open surface (a sheet) may face either way: the other sign counts too.
+    const ClosestPoint& cp = landing.facing.found || !any_open_ ? landing.facing : landing.facing_either_sign;
     if (!cp.found) return false;
     if (allowed_faces && !(*allowed_faces)[size_t(cp.face)]) return false;
     deviation_[size_t(v)] = cp.signed_distance;

@@ -1,6 +1,9 @@
 #include "surface_query.h"
 
 #include <vcg/complex/algorithms/closest.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vcg/space/index/grid_static_ptr.h>
 
 namespace symmetry {
@@ -17,25 +20,65 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh) : mesh_(mesh), grid_(std::make_uniq
 SurfaceQuery::~SurfaceQuery() = default;
 
 namespace {
-// vcg's point-face distance, blind to the faces whose normal does not match.
-struct FacingDistance {
+// What landing() records while vcg's grid search runs (see LandingDistance).
+struct LandingSearch {
+    struct Best {
+        const Face* face = nullptr;
+        double distance = std::numeric_limits<double>::max();
+        vcg::Point3d point;
+        void offer(const Face& f, double d, const vcg::Point3d& p) {
+            if (d > distance) return;
+            face = &f;
+            distance = d;
+            point = p;
+        }
+    };
+    const std::vector<Eigen::Vector3d>* normals;
+    double min_cosine;
+    double tie;
+    Best nearest, facing, facing_either_sign;
+};
+
+// The distance vcg's grid search sees while landing(): each face's true distance, but
+// the search bound it keeps is the nearest distance so far plus the tie, so that every face
+// within that margin of the nearest is tested; the facing ones are recorded on the side.
+// (vcg copies the functor: what it records goes to the LandingSearch it points to.)
+struct LandingDistance {
     typedef double ScalarType;
     typedef vcg::Point3d QueryType;
     static const vcg::Point3d& Pos(const vcg::Point3d& q) { return q; }
-    const std::vector<Eigen::Vector3d>* normals;
-    double min_cosine;
-    bool either_sign;
-    vcg::face::PointDistanceBaseFunctor<double> distance;
-    bool operator()(const Face& f, const vcg::Point3d& p, double& min_distance, vcg::Point3d& q) {
+    LandingSearch* search;
+    bool operator()(const Face& f, const vcg::Point3d& p, double& bound, vcg::Point3d& q) const {
+        double d = bound;
+        vcg::Point3d c;
+        if (!vcg::face::PointDistanceBase(f, p, d, c)) return false;
         const Eigen::Vector3d n(f.cN()[0], f.cN()[1], f.cN()[2]);
-        bool facing = false;
-        for (const Eigen::Vector3d& m : *normals) {
-            const double c = n.dot(m);
-            if ((either_sign ? std::abs(c) : c) >= min_cosine) { facing = true; break; }
+        double agreement = -1, agreement_either_sign = -1;
+        for (const Eigen::Vector3d& m : *search->normals) {
+            agreement = std::max(agreement, n.dot(m));
+            agreement_either_sign = std::max(agreement_either_sign, std::abs(n.dot(m)));
         }
-        return facing && distance(f, p, min_distance, q);
+        if (agreement >= search->min_cosine) search->facing.offer(f, d, c);
+        if (agreement_either_sign >= search->min_cosine) search->facing_either_sign.offer(f, d, c);
+        if (d > search->nearest.distance) return false;
+        search->nearest.offer(f, d, c);
+        bound = d + search->tie;
+        q = c;
+        return true;
     }
 };
+
+ClosestPoint closest_point(const Mesh& mesh, const Eigen::Vector3d& query, const Face* f, const vcg::Point3d& nearest) {
+    ClosestPoint result;
+    if (f == nullptr) return result;
+    result.found = true;
+    result.face = int(vcg::tri::Index(mesh, f));
+    result.point = Eigen::Vector3d(nearest[0], nearest[1], nearest[2]);
+    result.normal = Eigen::Vector3d(f->cN()[0], f->cN()[1], f->cN()[2]).normalized();
+    result.distance = (query - result.point).norm();
+    result.signed_distance = (query - result.point).dot(result.normal) >= 0 ? result.distance : -result.distance;
+    return result;
+}
 
 // The closest point under vcg's grid search with the given point-face distance.
 // EmptyTMark instead of the mesh's marks: a face may be tested twice, but queries do not
@@ -43,28 +86,37 @@ struct FacingDistance {
 template <class Distance>
 ClosestPoint closest_under(const Mesh& mesh, vcg::GridStaticPtr<Face, double>& grid, Distance& point_face_distance,
                            const Eigen::Vector3d& query, double max_distance) {
-    ClosestPoint result;
     vcg::tri::EmptyTMark<Mesh> marker;
     const vcg::Point3d p(query.x(), query.y(), query.z());
     double distance = max_distance;
     vcg::Point3d nearest(0, 0, 0);
-    Face* f = grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
-    if (f == nullptr) return result;
-    result.found = true;
-    result.face = int(vcg::tri::Index(mesh, f));
-    result.point = Eigen::Vector3d(nearest[0], nearest[1], nearest[2]);
-    result.normal = Eigen::Vector3d(f->N()[0], f->N()[1], f->N()[2]).normalized();
-    result.distance = (query - result.point).norm();
-    result.signed_distance = (query - result.point).dot(result.normal) >= 0 ? result.distance : -result.distance;
-    return result;
+    const Face* f = grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
+    return closest_point(mesh, query, f, nearest);
 }
 }  // namespace
 
-ClosestPoint SurfaceQuery::closest_facing(const Eigen::Vector3d& query, double max_distance,
-                                          const std::vector<Eigen::Vector3d>& normals, double min_cosine,
-                                          bool either_sign) const {
-    FacingDistance point_face_distance{&normals, min_cosine, either_sign, {}};
-    return closest_under(mesh_, grid_->grid, point_face_distance, query, max_distance);
+SurfaceQuery::Landing SurfaceQuery::landing(const Eigen::Vector3d& query, double max_distance, double tie,
+                                            const std::vector<Eigen::Vector3d>& normals, double min_cosine) const {
+    LandingSearch search{&normals, min_cosine, tie, {}, {}, {}};
+    LandingDistance point_face_distance{&search};
+    vcg::tri::EmptyTMark<Mesh> marker;
+    const vcg::Point3d p(query.x(), query.y(), query.z());
+    // The bound starts a tie beyond max_distance: a facing face just beyond it counts
+    // when the nearest face lies at max_distance.
+    double distance = max_distance + tie;
+    vcg::Point3d nearest(0, 0, 0);
+    grid_->grid.GetClosest(point_face_distance, marker, p, max_distance + tie, distance, nearest);
+    Landing out;
+    if (search.nearest.distance > max_distance) return out;
+    out.nearest = closest_point(mesh_, query, search.nearest.face, search.nearest.point);
+    if (!out.nearest.found) return out;
+    // Only the faces as near as the nearest one count (see RegionGrower::accepts).
+    const double reach = search.nearest.distance + tie;
+    if (search.facing.distance <= reach)
+        out.facing = closest_point(mesh_, query, search.facing.face, search.facing.point);
+    if (search.facing_either_sign.distance <= reach)
+        out.facing_either_sign = closest_point(mesh_, query, search.facing_either_sign.face, search.facing_either_sign.point);
+    return out;
 }
 
 ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_distance) const {
