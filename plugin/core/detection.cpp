@@ -8,6 +8,7 @@
 #include "signatures.h"
 #include "surface_query.h"
 #include "umbilic_pruning.h"
+#include "working_mesh.h"
 
 #include <vcg/complex/append.h>
 #include <vcg/complex/algorithms/update/topology.h>
@@ -36,27 +37,39 @@ void require(bool ok, const char* name, T value, const char* range) {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// The input as the stages see it.  When the input is noisy, signatures and region growing
-// work on a presmoothed copy with the same vertices and faces (denoising.h), and the
+// The input as the stages see it.  A large input is analysed on a simplified copy
+// (working_mesh.h).  When the input (or that copy) is noisy, signatures and region growing
+// work on a presmoothed copy with the same vertices and faces (denoising.h).  Either way the
 // deviation from perfect symmetry is measured on the input itself.
 struct Model {
     Mesh input;
+    std::unique_ptr<Mesh> working;     // the simplified copy, for a large input
+    std::vector<int> working_vertex;   // per input vertex, the nearest vertex of `working`
     std::unique_ptr<Mesh> smoothed;
-    std::vector<int> vertex_of_input;  // row in V of every core vertex
+    std::vector<int> vertex_of_input;  // row in V of every input vertex
     double diagonal = 0, total_area = 0;
     double radius = 0;  // the curvature ball's radius r (§2), absolute units
     double noise = 0;   // estimated noise (denoising.h), absolute units
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
-    const Mesh& analysed() const { return smoothed ? *smoothed : input; }
+    const Mesh& resolved() const { return working ? *working : input; }
+    const Mesh& analysed() const { return smoothed ? *smoothed : resolved(); }
+    bool measured_apart() const { return working || smoothed; }
 };
 
 void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,
-                   Model& model, DetectionResult& result) {
+                   const std::function<void(int, const char*)>& report, Model& model, DetectionResult& result) {
     build_mesh(V, F, model.input, model.vertex_of_input);
     model.diagonal = model.input.bbox.Diag();
     model.center = Eigen::Vector3d(model.input.bbox.Center()[0], model.input.bbox.Center()[1], model.input.bbox.Center()[2]);
     model.total_area = surface_area(model.input);
-    const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.input);
+    const int limit = options.working.max_vertices;
+    if (limit > 0 && model.input.vn > limit) {
+        report(0, "Simplifying the mesh to the working resolution");
+        model.working = simplified_copy(model.input, limit, options.working);
+        model.working_vertex = nearest_vertices(model.input, *model.working);
+        result.working_vertices = model.working->vn;
+    }
+    const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.resolved());
     // The ball must hold a few edges, or on a coarse mesh it sees one facet's flatness
     // or a single edge's bend, and a copy tessellated otherwise gets other curvatures.
     model.radius = std::max(options.curvature_radius * model.diagonal,
@@ -77,7 +90,8 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
     radius = std::min(radius, model.radius);
     if (radius > 0) {
         model.smoothed = std::make_unique<Mesh>();
-        vcg::tri::Append<Mesh, Mesh>::MeshCopy(*model.smoothed, model.input);
+        // vcg's Append takes its source by non-const reference; it only reads it.
+        vcg::tri::Append<Mesh, Mesh>::MeshCopy(*model.smoothed, const_cast<Mesh&>(model.resolved()));
         vcg::tri::UpdateTopology<Mesh>::FaceFace(*model.smoothed);
         vcg::tri::UpdateTopology<Mesh>::VertexFace(*model.smoothed);
         smooth_positions(*model.smoothed, radius, options.denoising);
@@ -639,12 +653,24 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     return verifier.take_findings(result);
 }
 
-// On a presmoothed model, the deviation from perfect symmetry is measured again on the
-// input: T(v) against the input surface, as Figure 1 shows it.
-void measure_on_input(const Model& model, double tolerance, VerifiedSymmetry& s) {
-    if (!model.smoothed) return;
-    static_cast<void>(tolerance);
-    const SurfaceQuery input(model.input);
+// A patch of the working copy in the input's vertices: those whose nearest working vertex
+// is in the patch.
+std::vector<int> on_input(const Model& model, const std::vector<int>& patch) {
+    const std::vector<char> in_patch = flags(int(model.working->vert.size()), patch);
+    std::vector<int> vertices;
+    for (size_t u = 0; u < model.working_vertex.size(); ++u)
+        if (in_patch[size_t(model.working_vertex[u])]) vertices.push_back(int(u));
+    return vertices;
+}
+
+// When the stages saw a presmoothed or simplified copy, the deviation from perfect symmetry
+// is measured again on the input: T(v) against the input surface, as Figure 1 shows it,
+// for every input vertex of the patch.
+void measure_on_input(const Model& model, const SurfaceQuery& input, double tolerance, VerifiedSymmetry& s) {
+    if (model.working) {
+        s.source_vertices = on_input(model, s.source_vertices);
+        s.target_vertices = on_input(model, s.target_vertices);
+    }
     const double reach = 4 * tolerance;  // beyond it a vertex counts as deviating by the reach
     auto measure = [&](const std::vector<int>& vertices, const Transformation& T, double scale, std::vector<double>& out) {
         out.clear();
@@ -660,6 +686,20 @@ void measure_on_input(const Model& model, double tolerance, VerifiedSymmetry& s)
     s.max_error = 0;
     for (double d : s.source_deviation) { sum += d * d; s.max_error = std::max(s.max_error, std::abs(d)); }
     s.rms_error = s.source_deviation.empty() ? 0 : std::sqrt(sum / double(s.source_deviation.size()));
+}
+
+// A family found on the working copy, in the input's vertices: each input vertex takes the
+// deviation of its nearest working vertex (the member that maps a vertex best varies
+// smoothly over the patch; check_members measured it on the working copy).
+void family_on_input(const Model& model, VerifiedSymmetry& s) {
+    if (!model.working) return;
+    std::vector<double> deviation(model.working->vert.size(), 0.0);
+    for (size_t i = 0; i < s.source_vertices.size(); ++i) deviation[size_t(s.source_vertices[i])] = s.source_deviation[i];
+    s.source_vertices = on_input(model, s.source_vertices);
+    s.source_deviation.clear();
+    for (int u : s.source_vertices) s.source_deviation.push_back(deviation[size_t(model.working_vertex[size_t(u)])]);
+    s.target_vertices = s.source_vertices;
+    s.target_deviation = s.source_deviation;
 }
 
 // A continuous family reported as a symmetry: its patch on both sides, the finite member
@@ -730,6 +770,8 @@ void DetectionOptions::validate() const {
             verification_tolerance, "greater than 0 and at most a quarter of the bounding-box diagonal");
     require(min_patch_area >= 0 && min_patch_area <= 1, "min_patch_area", min_patch_area,
             "between 0 and 100 percent of the surface area");
+    require(working.max_vertices == 0 || working.max_vertices >= 1000, "max_working_vertices", working.max_vertices,
+            "0 (never simplify) or at least 1000");
     require(max_symmetries >= 1 && max_symmetries <= 1000, "max_symmetries", max_symmetries, "between 1 and 1000");
     require(basis_loop_length >= 1 && basis_loop_length <= 6, "basis_loop_length", basis_loop_length,
             "between 1 and 6 (the search grows exponentially with it)");
@@ -749,7 +791,7 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     // §2, §2.1, §2.2: samples, signatures, pruning, pairs and their votes in Γ.
     report(0, "Sampling and curvature signatures");
     Model model;
-    prepare_model(V, F, options, model, result);
+    prepare_model(V, F, options, report, model, result);
     const Votes votes = vote(model, options, rng, result);
     const TransformationSpace space(model.center, model.diagonal);
 
@@ -757,14 +799,15 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     report(45, "Mean-shift clustering in transformation space");
     Findings findings = search(model, votes, space, options, report, result);
     auto start = Clock::now();
-    const SurfaceQuery analysed_surface(model.analysed());
     const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.analysed());
     const double tolerance = options.verification_tolerance * model.diagonal;
+    std::unique_ptr<SurfaceQuery> input_surface;
+    if (model.measured_apart()) input_surface = std::make_unique<SurfaceQuery>(model.input);
     std::vector<VerifiedSymmetry> reported;
     std::vector<int> supports;
     std::vector<const ContinuousFamily*> family_of;
     for (auto& f : findings.discrete) {
-        measure_on_input(model, tolerance, f.symmetry);
+        if (input_surface) measure_on_input(model, *input_surface, tolerance, f.symmetry);
         reported.push_back(std::move(f.symmetry));
         supports.push_back(f.support);
         family_of.push_back(nullptr);
@@ -775,6 +818,7 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
         VerifiedSymmetry family = family_as_symmetry(findings.families[k], findings.family_checks[k], neighbourhoods);
         // Refinement by slippage may have shrunk the patch grown from a pruned sample.
         if (family.source_area < options.min_patch_area * model.total_area) continue;
+        family_on_input(model, family);
         reported.push_back(std::move(family));
         supports.push_back(findings.family_support[k]);
         family_of.push_back(&findings.families[k]);

@@ -12,6 +12,7 @@
 #include "sample_size.h"
 #include "transformation_space.h"
 #include "verification.h"
+#include "working_mesh.h"
 
 #include <Eigen/Core>
 #include <functional>
@@ -52,6 +53,7 @@ struct DetectionOptions {
     unsigned random_seed = 0;           ///< the whole run is a function of this seed
 
     // Tunables of the stages, with their units in their own structs.
+    WorkingMeshOptions working;               ///< the resolution large inputs are analysed at
     DenoisingOptions denoising;               ///< presmoothing of noisy meshes (§5 limitations)
     SampleSizeOptions sample_size;            ///< the Appendix's bound for an automatic n'
     PairingOptions pairing;                   ///< partners per sample (§2.2)
@@ -98,6 +100,7 @@ struct DetectionResult {
     int samples = 0, pruned_samples = 0, pairs = 0, transformation_points = 0, clusters = 0;
     int verified_candidates = 0;   ///< clusters that went through region growing
     int skipped_members = 0;       ///< clusters skipped as members of a continuous family found before
+    int working_vertices = 0;      ///< vertices of the simplified copy analysed; 0 when the input itself was
     double noise = 0;              ///< estimated vertex noise, fraction of the diagonal
     double smoothing_radius = 0;   ///< presmoothing applied for signatures and growth, fraction of the diagonal
     double curvature_radius = 0;   ///< the radius r used (see min_radius_in_edges), fraction of the diagonal

@@ -283,6 +283,7 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["pairs"] = QVariant(r.pairs);
 	out["clusters"] = QVariant(r.clusters);
 	out["verified_clusters"] = QVariant(r.verified_candidates);
+	out["working_vertices"] = QVariant(r.working_vertices);
 	out["noise"] = QVariant(r.noise);
 	out["smoothing_radius"] = QVariant(r.smoothing_radius);
 	out["curvature_radius_used"] = QVariant(r.curvature_radius);
@@ -354,7 +355,8 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 		       "inverse; continuous families are not in the basis); patch_layer_ids (source and target layer id "
 		       "per symmetry, -1 without layers); stage times seconds_signatures, seconds_pairing, "
 		       "seconds_clustering, seconds_verification; work counts samples, pruned_samples, pairs, clusters, "
-		       "verified_clusters; and what the filter chose from the mesh: noise (estimated, fraction of the "
+		       "verified_clusters; and what the filter chose from the mesh: working_vertices (vertices of the "
+		       "simplified copy analysed, 0 when the mesh itself was), noise (estimated, fraction of the "
 		       "diagonal), smoothing_radius (presmoothing of a noisy mesh, 0 if none), curvature_radius_used and "
 		       "pair_sample_count_used.<br><br>"
 		       "See:<br><i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i><br>"
@@ -487,6 +489,11 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 		    int(s.source_vertices.size()), int(s.target_vertices.size()), 100 * s.source_area, 100 * s.rms_error,
 		    100 * s.max_error, s.support, qUtf8Printable(basis));
 	}
+	if (result.working_vertices > 0)
+		log("The mesh has %d vertices, more than the working resolution (max_working_vertices = %d): it was "
+		    "analysed on a copy simplified to %d vertices, and the patches and deviations are those of the mesh "
+		    "itself.",
+		    int(host.V.rows()), options.working.max_vertices, result.working_vertices);
 	if (result.pair_sample_count_automatic) {
 		const symmetry::SampleSize& n = result.pair_sample_size;
 		log("Paired samples: n' = %d of %d. The Appendix's bound (Equation 1) for patches of %.3g%% of the samples "

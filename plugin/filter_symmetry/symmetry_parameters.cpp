@@ -41,6 +41,13 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, b
 		"Number of points sampled uniformly on the surface before umbilic pruning (§5). More samples find "
 		"smaller symmetric parts at the cost of time."));
 	parameters.addParam(RichInt(
+		"max_working_vertices", o.working.max_vertices, "Working resolution (vertices)",
+		"A mesh with more vertices than this is analysed on a copy simplified to about this many by quadric "
+		"edge collapse (as Simplification: Quadric Edge Collapse Decimation does); what is found is carried "
+		"back to every vertex of the mesh, and the deviation is measured on the mesh itself. The time then "
+		"grows with the symmetries found, not with the tessellation. 0 analyses every mesh at its own "
+		"resolution."));
+	parameters.addParam(RichInt(
 		"pair_sample_count", o.pair_sample_count, "Paired samples",
 		"Number of samples (the paper's random subset P') that are paired against all the others in "
 		"signature space (§2.2). Each pair votes for one transformation. 0 (the default) chooses it by the "
@@ -106,6 +113,7 @@ symmetry::DetectionOptions fromRichParameterList(const RichParameterList& p, dou
 	symmetry::DetectionOptions o;
 	o.group = symmetry::TransformationGroup(p.getEnum("transformation_group"));
 	o.sample_count = p.getInt("sample_count");
+	o.working.max_vertices = p.getInt("max_working_vertices");
 	o.pair_sample_count = p.getInt("pair_sample_count");
 	o.umbilic_ratio = p.getFloat("umbilic_ratio");
 	o.signature_tolerance = p.getFloat("signature_tolerance");

@@ -13,7 +13,7 @@ from conftest import (FILTER, NOT_BUILT_MESSAGE, assert_mesh_unchanged, make_mes
                       mirror_symmetric_mesh, sphere)
 
 PARAMETERS = [
-    "transformation_group", "sample_count", "pair_sample_count", "curvature_radius", "umbilic_ratio",
+    "transformation_group", "sample_count", "max_working_vertices", "pair_sample_count", "curvature_radius", "umbilic_ratio",
     "signature_tolerance", "cluster_bandwidth", "min_cluster_support", "verification_tolerance",
     "min_patch_area", "max_symmetries", "refine_with_icp", "reduce_basis", "basis_loop_length",
     "basis_tolerance", "create_patch_layers", "random_seed",
@@ -115,6 +115,7 @@ BAD_PARAMETERS = {
     "signature_tolerance": dict(signature_tolerance=-0.1),
     "verification_tolerance": dict(verification_tolerance=pymeshlab.PureValue(-0.01)),
     "pair_sample_count": dict(pair_sample_count=-5),
+    "max_working_vertices": dict(max_working_vertices=500),
 }
 
 

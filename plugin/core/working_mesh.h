@@ -1,0 +1,38 @@
+// Stage 0 (beyond the paper): the resolution the pipeline works at.  The paper's stages
+// see the surface through a fixed number of samples (§5) and a verification tolerance of
+// about 1 % of the diagonal; a scan of a million faces carries detail far below both, and
+// verifying it vertex by vertex costs time in proportion to the tessellation instead of the
+// symmetries (§6 claims cost that grows with the output).  A large input is therefore
+// analysed on a copy simplified by quadric edge collapse (Garland and Heckbert 1997, the
+// "Quadric Edge Collapse Decimation" of MeshLab, from vcglib), and only what is reported
+// is carried back to every input vertex: its patches, and its deviation measured on the
+// input surface itself.
+#pragma once
+
+#include "mesh.h"
+
+#include <memory>
+#include <vector>
+
+namespace symmetry {
+
+struct WorkingMeshOptions {
+    /// An input with more vertices than this is analysed on a copy simplified to about this
+    /// many; 0 analyses every input at its own resolution.  At 50,000 vertices the mean edge
+    /// is about 0.3 % of the diagonal of a compact model: several edges per verification
+    /// tolerance and curvature radius at their defaults (1 %).
+    int max_vertices = 50000;
+    /// Collapses that would leave triangles of lower quality (radius ratio, 0..1) are
+    /// penalised: vcglib's QualityThr, MeshLab's default.
+    double min_triangle_quality = 0.3;
+};
+
+/// A copy of `input` simplified to about `target_vertices` vertices by quadric edge
+/// collapse that preserves the topology (no handles or components appear or vanish) and
+/// flips no face normal by more than 45 degrees, with the same setup as build_mesh gives.
+std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, const WorkingMeshOptions& options);
+
+/// For every vertex of `fine`, the index of the nearest vertex of `coarse`.
+std::vector<int> nearest_vertices(const Mesh& fine, const Mesh& coarse);
+
+}  // namespace symmetry
