@@ -673,11 +673,13 @@ void measure_on_input(const Model& model, const SurfaceQuery& input, double tole
     }
     const double reach = 4 * tolerance;  // beyond it a vertex counts as deviating by the reach
     auto measure = [&](const std::vector<int>& vertices, const Transformation& T, double scale, std::vector<double>& out) {
-        out.clear();
-        for (int v : vertices) {
-            const auto& p = model.input.vert[size_t(v)].cP();
+        out.assign(vertices.size(), 0.0);
+        // Queries only read the grid: vertices are measured on every core, each into its own entry.
+#pragma omp parallel for schedule(dynamic, 256)
+        for (long i = 0; i < long(vertices.size()); ++i) {
+            const auto& p = model.input.vert[size_t(vertices[size_t(i)])].cP();
             ClosestPoint cp = input.closest(T.apply(Eigen::Vector3d(p[0], p[1], p[2])), reach);
-            out.push_back(scale * (cp.found ? cp.signed_distance : reach));
+            out[size_t(i)] = scale * (cp.found ? cp.signed_distance : reach);
         }
     };
     measure(s.source_vertices, s.transform, 1.0, s.source_deviation);

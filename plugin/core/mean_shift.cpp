@@ -16,6 +16,7 @@ std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& opti
 
     // Density at every point, to start the ascent from the densest points first.
     std::vector<int> density(n);
+#pragma omp parallel for schedule(dynamic, 256)
     for (int i = 0; i < n; ++i) density[i] = tree.count_within(points.row(i).data(), h, options.density_cap);
     std::vector<int> order(n);
     std::iota(order.begin(), order.end(), 0);

@@ -214,12 +214,24 @@ struct CurvatureEstimator::Data {
     std::unique_ptr<KdTree> tree;
     std::vector<int> edge_of_piece;
     double half_piece = 0;
-    // Work space reused across samples: the faces and edges met by the current ball, and
-    // per-face and per-edge stamps that list each once without clearing.
+};
+
+// Work space reused across samples: the faces and edges met by the current ball, and
+// per-face and per-edge stamps that list each once without clearing.
+struct CurvatureEstimator::Workspace {
     std::vector<int> stamp, edge_stamp;
     std::vector<int> ball_faces, ball_edges;
     int next_stamp = 0;
 };
+
+std::unique_ptr<CurvatureEstimator::Workspace> CurvatureEstimator::workspace() const {
+    auto w = std::make_unique<Workspace>();
+    w->stamp.assign(data_->faces.size(), -1);
+    w->edge_stamp.assign(data_->edges.size(), -1);
+    w->ball_faces.reserve(256);
+    w->ball_edges.reserve(256);
+    return w;
+}
 
 CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_unique<Data>()) {
     Data& d = *data_;
@@ -246,10 +258,7 @@ CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_uniqu
     KdTree::Points points(Eigen::Index(midpoints.size()), 3);
     for (size_t i = 0; i < midpoints.size(); ++i) points.row(Eigen::Index(i)) = midpoints[i].transpose();
     d.tree = std::make_unique<KdTree>(std::move(points));
-    d.stamp.assign(d.faces.size(), -1);
-    d.edge_stamp.assign(d.edges.size(), -1);
-    d.ball_faces.reserve(256);
-    d.ball_edges.reserve(256);
+    own_ = workspace();
 }
 
 CurvatureEstimator::~CurvatureEstimator() = default;
@@ -257,8 +266,14 @@ CurvatureEstimator::~CurvatureEstimator() = default;
 SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radius) const {
     if (!(radius > 0) || !std::isfinite(radius))
         throw InputError("The curvature radius must be a positive number.");
-    Data& d = *data_;
-    const int s = d.next_stamp++;
+    return at(sample, radius, *own_);
+}
+
+// The estimate itself (the radius is checked by the callers: nothing here throws, so it
+// may run inside a parallel loop).
+SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radius, Workspace& w) const {
+    const Data& d = *data_;
+    const int s = w.next_stamp++;
     SurfaceSignature out;
     const Eigen::Vector3d& c = sample.position;
     out.position = c;
@@ -268,27 +283,27 @@ SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radi
     // T = sum_e beta(e) |e ∩ B| ê êᵀ (§2; Alliez et al. 2003), before the 1/|B|
     // normalisation.
     Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-    d.ball_faces.clear();
+    w.ball_faces.clear();
     auto add_face = [&](int f) {
-        if (f >= 0 && d.stamp[size_t(f)] != s) {
-            d.stamp[size_t(f)] = s;
-            d.ball_faces.push_back(f);
+        if (f >= 0 && w.stamp[size_t(f)] != s) {
+            w.stamp[size_t(f)] = s;
+            w.ball_faces.push_back(f);
         }
     };
     // The ball may lie inside the sample's face without meeting an edge.
     if (face_ok) add_face(sample.face);
     // The edges of the pieces found, each once, in increasing order: the sum below is
     // then the same whatever order the tree returns them in.
-    d.ball_edges.clear();
+    w.ball_edges.clear();
     for (int index : d.tree->radius_search(c.data(), radius + d.half_piece, false)) {
         const int edge = d.edge_of_piece[size_t(index)];
-        if (d.edge_stamp[size_t(edge)] != s) {
-            d.edge_stamp[size_t(edge)] = s;
-            d.ball_edges.push_back(edge);
+        if (w.edge_stamp[size_t(edge)] != s) {
+            w.edge_stamp[size_t(edge)] = s;
+            w.ball_edges.push_back(edge);
         }
     }
-    std::sort(d.ball_edges.begin(), d.ball_edges.end());
-    for (int index : d.ball_edges) {
+    std::sort(w.ball_edges.begin(), w.ball_edges.end());
+    for (int index : w.ball_edges) {
         const Edge& e = d.edges[size_t(index)];
         double length = segment_length_in_ball(e.p0, e.p1, c, radius);
         if (length <= 0) continue;
@@ -301,7 +316,7 @@ SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radi
     // the frame (§2) averages over the same neighbourhood as the curvatures.
     double area = 0;
     Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
-    for (int f : d.ball_faces) {
+    for (int f : w.ball_faces) {
         double a = face_area_in_ball(d.faces[size_t(f)], c, radius);
         area += a;
         normal_sum += a * d.faces[size_t(f)].normal;
@@ -346,7 +361,19 @@ std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::ve
     std::vector<SurfaceSignature> signatures(samples.size());
     if (samples.empty()) return signatures;
     const CurvatureEstimator estimator(mesh);
-    for (int s : spatial_order(samples)) signatures[size_t(s)] = estimator.at(samples[size_t(s)], radius);
+    // In spatial order, so that consecutive samples query nearby parts of the edge tree.
+    // Samples are independent: each thread has its own work space and writes only the
+    // signatures of its own samples, so the result is the same at any thread count.
+    const std::vector<int> order = spatial_order(samples);
+#pragma omp parallel
+    {
+        const std::unique_ptr<CurvatureEstimator::Workspace> workspace = estimator.workspace();
+#pragma omp for schedule(dynamic, 64)
+        for (long i = 0; i < long(order.size()); ++i) {
+            const size_t k = size_t(order[size_t(i)]);
+            signatures[k] = estimator.at(samples[k], radius, *workspace);
+        }
+    }
     return signatures;
 }
 

@@ -42,16 +42,22 @@ std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::ve
 
 /// The same estimate one sample at a time, for callers that need it at points they choose
 /// (verification compares the curvature at a point with that at its image).  Reads the
-/// mesh once; `at` reuses work space, so one estimator serves one thread.
+/// mesh once.  An estimate needs work space (which faces and edges the ball met): `at`
+/// without one uses the estimator's own, so it serves one thread; threads that share an
+/// estimator each bring a Workspace of their own.
 class CurvatureEstimator {
 public:
+    struct Workspace;
     explicit CurvatureEstimator(const Mesh& mesh);  ///< the mesh must outlive the estimator
     ~CurvatureEstimator();
     SurfaceSignature at(const SurfaceSample& sample, double radius) const;
+    SurfaceSignature at(const SurfaceSample& sample, double radius, Workspace& workspace) const;
+    std::unique_ptr<Workspace> workspace() const;  ///< work space for one thread
 
 private:
     struct Data;
     std::unique_ptr<Data> data_;
+    std::unique_ptr<Workspace> own_;
 };
 
 }  // namespace symmetry
