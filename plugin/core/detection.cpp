@@ -151,13 +151,17 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
     Votes votes;
     auto start = Clock::now();
     std::vector<SurfaceSample> samples = uniform_area_sampling(model.analysed(), options.sample_count, rng);
-    for (SurfaceSignature& s : compute_signatures(model.analysed(), samples, radius))
-        (has_distinct_principal_curvatures(s, options.umbilic_ratio, radius) ? votes.P : votes.discarded).push_back(s);
+    // One estimator for the signatures at r and, for the samples pruning keeps, at 2r.
     const CurvatureEstimator curvature(model.analysed());
-    for (SurfaceSignature& s : votes.P) {
-        const SurfaceSignature coarse = curvature.at({s.position, s.face}, 2 * radius);
-        s.coarse_kappa1 = coarse.kappa1;
-        s.coarse_kappa2 = coarse.kappa2;
+    for (SurfaceSignature& s : compute_signatures(curvature, samples, radius))
+        (has_distinct_principal_curvatures(s, options.umbilic_ratio, radius) ? votes.P : votes.discarded).push_back(s);
+    std::vector<SurfaceSample> kept;
+    kept.reserve(votes.P.size());
+    for (const SurfaceSignature& s : votes.P) kept.push_back({s.position, s.face});
+    const std::vector<SurfaceSignature> coarse = compute_signatures(curvature, kept, 2 * radius);
+    for (size_t i = 0; i < votes.P.size(); ++i) {
+        votes.P[i].coarse_kappa1 = coarse[i].kappa1;
+        votes.P[i].coarse_kappa2 = coarse[i].kappa2;
     }
     result.samples = int(samples.size());
     result.pruned_samples = int(votes.P.size());

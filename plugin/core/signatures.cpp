@@ -199,6 +199,12 @@ std::vector<int> spatial_order(const std::vector<SurfaceSample>& samples) {
     return order;
 }
 
+// A radius the tensor can be integrated over, or an InputError for the user.
+void require_usable_radius(double radius) {
+    if (!(radius > 0) || !std::isfinite(radius))
+        throw InputError("The curvature radius must be a positive number.");
+}
+
 }  // namespace
 
 // What the tensor needs of the mesh, read once: faces, edges with their dihedral
@@ -264,8 +270,7 @@ CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_uniqu
 CurvatureEstimator::~CurvatureEstimator() = default;
 
 SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radius) const {
-    if (!(radius > 0) || !std::isfinite(radius))
-        throw InputError("The curvature radius must be a positive number.");
+    require_usable_radius(radius);
     return at(sample, radius, *own_);
 }
 
@@ -356,11 +361,16 @@ SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radi
 
 std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::vector<SurfaceSample>& samples,
                                                  double radius) {
-    if (!(radius > 0) || !std::isfinite(radius))
-        throw InputError("The curvature radius must be a positive number.");
+    require_usable_radius(radius);
+    if (samples.empty()) return {};
+    return compute_signatures(CurvatureEstimator(mesh), samples, radius);
+}
+
+std::vector<SurfaceSignature> compute_signatures(const CurvatureEstimator& estimator,
+                                                 const std::vector<SurfaceSample>& samples, double radius) {
+    require_usable_radius(radius);
     std::vector<SurfaceSignature> signatures(samples.size());
-    if (samples.empty()) return signatures;
-    const CurvatureEstimator estimator(mesh);
+    if (samples.empty()) return signatures;  // (a sphere's samples are all pruned)
     // In spatial order, so that consecutive samples query nearby parts of the edge tree.
     // Samples are independent: each thread has its own work space and writes only the
     // signatures of its own samples, so the result is the same at any thread count.

@@ -60,4 +60,9 @@ private:
     std::unique_ptr<Workspace> own_;
 };
 
+/// compute_signatures with an estimator already built on the mesh, for estimates at
+/// several radii from one reading of the mesh.
+std::vector<SurfaceSignature> compute_signatures(const CurvatureEstimator& estimator,
+                                                 const std::vector<SurfaceSample>& samples, double radius);
+
 }  // namespace symmetry

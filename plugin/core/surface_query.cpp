@@ -55,8 +55,9 @@ struct LandingDistance {
         const Eigen::Vector3d n(f.cN()[0], f.cN()[1], f.cN()[2]);
         double agreement = -1, agreement_either_sign = -1;
         for (const Eigen::Vector3d& m : *search->normals) {
-            agreement = std::max(agreement, n.dot(m));
-            agreement_either_sign = std::max(agreement_either_sign, std::abs(n.dot(m)));
+            const double cosine = n.dot(m);
+            agreement = std::max(agreement, cosine);
+            agreement_either_sign = std::max(agreement_either_sign, std::abs(cosine));
         }
         if (agreement >= search->min_cosine) search->facing.offer(f, d, c);
         if (agreement_either_sign >= search->min_cosine) search->facing_either_sign.offer(f, d, c);
@@ -80,18 +81,18 @@ ClosestPoint closest_point(const Mesh& mesh, const Eigen::Vector3d& query, const
     return result;
 }
 
-// The closest point under vcg's grid search with the given point-face distance.
-// EmptyTMark instead of the mesh's marks: a face may be tested twice, but queries do not
-// write to the mesh, so they can later run from several threads.
+// vcg's grid search up to max_distance with the given point-face distance: the face it
+// ends on (nullptr if none) and the point of it in `nearest`.  EmptyTMark instead of the
+// mesh's marks: a face may be tested twice, but queries do not write to the mesh, so they
+// run from several threads.
 template <class Distance>
-ClosestPoint closest_under(const Mesh& mesh, vcg::GridStaticPtr<Face, double>& grid, Distance& point_face_distance,
-                           const Eigen::Vector3d& query, double max_distance) {
+const Face* grid_closest(vcg::GridStaticPtr<Face, double>& grid, Distance& point_face_distance,
+                         const Eigen::Vector3d& query, double max_distance, vcg::Point3d& nearest) {
     vcg::tri::EmptyTMark<Mesh> marker;
     const vcg::Point3d p(query.x(), query.y(), query.z());
     double distance = max_distance;
-    vcg::Point3d nearest(0, 0, 0);
-    const Face* f = grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
-    return closest_point(mesh, query, f, nearest);
+    nearest = vcg::Point3d(0, 0, 0);
+    return grid.GetClosest(point_face_distance, marker, p, max_distance, distance, nearest);
 }
 }  // namespace
 
@@ -99,17 +100,13 @@ SurfaceQuery::Landing SurfaceQuery::landing(const Eigen::Vector3d& query, double
                                             const std::vector<Eigen::Vector3d>& normals, double min_cosine) const {
     LandingSearch search{&normals, min_cosine, tie, {}, {}, {}};
     LandingDistance point_face_distance{&search};
-    vcg::tri::EmptyTMark<Mesh> marker;
-    const vcg::Point3d p(query.x(), query.y(), query.z());
     // The bound starts a tie beyond max_distance: a facing face just beyond it counts
-    // when the nearest face lies at max_distance.
-    double distance = max_distance + tie;
-    vcg::Point3d nearest(0, 0, 0);
-    grid_->grid.GetClosest(point_face_distance, marker, p, max_distance + tie, distance, nearest);
+    // when the nearest face lies at max_distance.  What the search records is in `search`.
+    vcg::Point3d unused;
+    grid_closest(grid_->grid, point_face_distance, query, max_distance + tie, unused);
     Landing out;
-    if (search.nearest.distance > max_distance) return out;
+    if (search.nearest.distance > max_distance) return out;  // also when no face was met
     out.nearest = closest_point(mesh_, query, search.nearest.face, search.nearest.point);
-    if (!out.nearest.found) return out;
     // Only the faces as near as the nearest one count (see RegionGrower::accepts).
     const double reach = search.nearest.distance + tie;
     if (search.facing.distance <= reach)
@@ -121,7 +118,9 @@ SurfaceQuery::Landing SurfaceQuery::landing(const Eigen::Vector3d& query, double
 
 ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_distance) const {
     vcg::face::PointDistanceBaseFunctor<double> point_face_distance;
-    return closest_under(mesh_, grid_->grid, point_face_distance, query, max_distance);
+    vcg::Point3d nearest;
+    const Face* f = grid_closest(grid_->grid, point_face_distance, query, max_distance, nearest);
+    return closest_point(mesh_, query, f, nearest);
 }
 
 }  // namespace symmetry

@@ -68,9 +68,7 @@ def test_the_input_itself_is_analysed_below_the_limit():
 
 
 def test_the_simplified_run_is_deterministic():
-    a = scored("rigid")[1]
-    b = metrics.run_filter(scenes.make_scene("rigid", 0),
-                           **dict(scenes.make_scene("rigid", 0).filter_params, create_patch_layers=True,
-                                  max_working_vertices=LIMIT))
+    s, a, _ = scored("rigid")
+    b = metrics.run_filter(s, **dict(s.filter_params, create_patch_layers=True, max_working_vertices=LIMIT))
     np.testing.assert_array_equal(a.raw["transforms"], b.raw["transforms"])
     np.testing.assert_array_equal(a.symmetry_id, b.symmetry_id)
