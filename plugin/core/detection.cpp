@@ -286,7 +286,8 @@ class Verifier {
 public:
     Verifier(const Model& model, const Votes& votes, const TransformationSpace& space, const DetectionOptions& options)
         : model_(model), votes_(votes), space_(space), options_(options),
-          mesh_(mesh_neighbourhoods(model.analysed())), surface_(model.analysed()), curvature_(model.analysed()),
+          mesh_(mesh_neighbourhoods(model.analysed())),
+          surface_(model.analysed(), options.verification.grid_cells_per_face), curvature_(model.analysed()),
           roughness_(mesh_, options.denoising) {
         const double radius = model.radius;
         vo_ = options.verification;
@@ -507,11 +508,21 @@ private:
         return true;
     }
 
-    std::optional<VerifiedSymmetry> verify(const Candidate& candidate) const {
+    std::optional<VerifiedSymmetry> verify(const Candidate& candidate) {
         std::vector<Seed> seeds;
         for (int v : candidate.votes)
             seeds.push_back({endpoints_[size_t(v)].first, space_.distance(votes_.points[size_t(v)], candidate.transform)});
-        return verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_);
+        // A candidate that converges onto a discrete symmetry found before is that
+        // symmetry's: it gets the votes, as classify() would give them after a full verification.
+        const KnownRelation known = [this, &candidate](const Transformation& t) {
+            for (Found& f : findings_.discrete)
+                if (same_relation(t, f.symmetry.transform)) {
+                    f.support += candidate.height;
+                    return true;
+                }
+            return false;
+        };
+        return verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known);
     }
 
     void classify(VerifiedSymmetry s, int support) {

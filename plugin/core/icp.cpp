@@ -69,10 +69,12 @@ namespace {
 // the small motion x -> x + ω × (x - c) + σ (x - c) + τ about the centroid c that best
 // moves the points `moved` onto the tangent planes (q, n).  σ is fitted only for similarities.
 Transformation point_to_plane_step(const std::vector<Eigen::Vector3d>& moved, const std::vector<Eigen::Vector3d>& q,
-                                   const std::vector<Eigen::Vector3d>& n, bool with_scale) {
+                                   const std::vector<Eigen::Vector3d>& n, const std::vector<double>& weight,
+                                   bool with_scale) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (const auto& p : moved) c += p;
-    c /= double(moved.size());
+    double total = 0;
+    for (size_t i = 0; i < moved.size(); ++i) { c += weight[i] * moved[i]; total += weight[i]; }
+    c /= total;
     const int k = with_scale ? 7 : 6;
     Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(k, k);
     Eigen::VectorXd Atb = Eigen::VectorXd::Zero(k);
@@ -83,8 +85,8 @@ Transformation point_to_plane_step(const std::vector<Eigen::Vector3d>& moved, co
         row.segment<3>(3) = n[i];
         if (with_scale) row(6) = x.dot(n[i]);
         double residual = (moved[i] - q[i]).dot(n[i]);
-        AtA += row * row.transpose();
-        Atb -= row * residual;
+        AtA += weight[i] * row * row.transpose();
+        Atb -= weight[i] * row * residual;
     }
     // A surface that slides along itself (a cylinder turning about its axis) leaves AtA
     // singular; a faint damping keeps the step's component along that slide at zero
@@ -106,7 +108,8 @@ Transformation point_to_plane_step(const std::vector<Eigen::Vector3d>& moved, co
 // (q, m) of the closest points of the mirrored source points p.  (Fitting the plane to
 // point-to-point displacements instead is slow and biased where the surface slides.)
 Transformation point_to_plane_mirror_step(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& q,
-                                          const std::vector<Eigen::Vector3d>& m, const Eigen::Vector3d& n, double d) {
+                                          const std::vector<Eigen::Vector3d>& m, const std::vector<double>& weight,
+                                          const Eigen::Vector3d& n, double d) {
     const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
     Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
     Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
@@ -117,8 +120,8 @@ Transformation point_to_plane_mirror_step(const std::vector<Eigen::Vector3d>& p,
         Eigen::Vector3d row(-2 * (u.dot(p[i]) * n.dot(m[i]) + h * u.dot(m[i])),
                             -2 * (w.dot(p[i]) * n.dot(m[i]) + h * w.dot(m[i])), 2 * n.dot(m[i]));
         const double residual = (image - q[i]).dot(m[i]);
-        AtA += row * row.transpose();
-        Atb -= row * residual;
+        AtA += weight[i] * row * row.transpose();
+        Atb -= weight[i] * row * residual;
     }
     AtA.diagonal().array() += 1e-9 * AtA.trace() / 3;
     const Eigen::Vector3d x = AtA.ldlt().solve(Atb);
@@ -128,11 +131,12 @@ Transformation point_to_plane_mirror_step(const std::vector<Eigen::Vector3d>& p,
 // Closest points of the moved source, within `radius`.
 struct Correspondences {
     std::vector<Eigen::Vector3d> source, moved, target, normals;
-    void clear() { source.clear(); moved.clear(); target.clear(); normals.clear(); }
+    std::vector<double> weights;
+    void clear() { source.clear(); moved.clear(); target.clear(); normals.clear(); weights.clear(); }
 };
 
-void match(const std::vector<Eigen::Vector3d>& points, size_t stride, const SurfaceQuery& surface,
-           const Transformation& t, double radius, Correspondences& c) {
+void match(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights, size_t stride,
+           const SurfaceQuery& surface, const Transformation& t, double radius, Correspondences& c) {
     c.clear();
     for (size_t i = 0; i < points.size(); i += stride) {
         Eigen::Vector3d m = t.apply(points[i]);
@@ -142,12 +146,29 @@ void match(const std::vector<Eigen::Vector3d>& points, size_t stride, const Surf
         c.moved.push_back(m);
         c.target.push_back(cp.point);
         c.normals.push_back(cp.normal);
+        // A zero-area vertex (on degenerate faces only) still counts a little, so that the
+        // weights never all vanish.
+        c.weights.push_back(weights.empty() ? 1.0 : std::max(weights[i], 1e-12));
     }
+}
+
+// The weighted mean of target - source: the least-squares translation.
+Transformation weighted_mean_offset(const Correspondences& c) {
+    Transformation t;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double total = 0;
+    for (size_t i = 0; i < c.source.size(); ++i) {
+        sum += c.weights[i] * (c.target[i] - c.source[i]);
+        total += c.weights[i];
+    }
+    t.translation = sum / total;
+    return t;
 }
 
 }  // namespace
 
-IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const SurfaceQuery& surface,
+IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights,
+                        const SurfaceQuery& surface,
                         const Transformation& start, TransformationGroup group, double tolerance, int iterations,
                         const IcpOptions& options) {
     IcpResult result;
@@ -159,18 +180,19 @@ IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const Surfac
     Correspondences c;
     Transformation& t = result.transform;
     for (int iteration = 0; iteration < iterations; ++iteration) {
-        match(points, stride, surface, t, radius, c);
+        match(points, weights, stride, surface, t, radius, c);
         if (int(c.source.size()) < options.min_points / 2) break;
         Transformation fitted;
         if (planar) {
-            fitted = point_to_plane_step(c.moved, c.target, c.normals, group == TransformationGroup::Similarity) * t;
+            fitted = point_to_plane_step(c.moved, c.target, c.normals, c.weights,
+                                         group == TransformationGroup::Similarity) * t;
         } else if (group == TransformationGroup::Reflections) {
             Eigen::Vector3d n;
             double d;
             mirror_plane(t, n, d);
-            fitted = point_to_plane_mirror_step(c.source, c.target, c.normals, n, d);
+            fitted = point_to_plane_mirror_step(c.source, c.target, c.normals, c.weights, n, d);
         } else {
-            fitted = fit_transformation(c.source, c.target, group, t.reflection);
+            fitted = weighted_mean_offset(c);  // the Translations group
         }
         if (!fitted.matrix().allFinite()) break;
         double shift = 0;
@@ -180,10 +202,13 @@ IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const Surfac
         if (shift < options.convergence_in_tolerances * tolerance) break;
     }
     if (result.refitted) {
-        double sum = 0;
-        for (size_t i = 0; i < c.source.size(); ++i) sum += (t.apply(c.source[i]) - c.target[i]).squaredNorm();
+        double sum = 0, total = 0;
+        for (size_t i = 0; i < c.source.size(); ++i) {
+            sum += c.weights[i] * (t.apply(c.source[i]) - c.target[i]).squaredNorm();
+            total += c.weights[i];
+        }
         result.matched = int(c.source.size());
-        result.rms = c.source.empty() ? 0 : std::sqrt(sum / double(c.source.size()));
+        result.rms = total > 0 ? std::sqrt(sum / total) : 0;
     }
     return result;
 }

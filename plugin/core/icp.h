@@ -38,15 +38,20 @@ void mirror_plane(const Transformation& T, Eigen::Vector3d& n, double& d);
 struct IcpResult {
     Transformation transform;
     bool refitted = false;   ///< false when too few points matched to fit anything
-    double rms = 0;          ///< RMS distance of the matched points after the last fit
+    double rms = 0;          ///< RMS distance of the matched points after the last fit, weighted like them
     int matched = 0;         ///< points with a closest point within the search radius
 };
 
-/// ICP of `points` (source positions) onto the surface, starting from `start`.
+/// ICP of `points` (source positions) onto the surface, starting from `start`, each point's
+/// residual weighted by `weights` (the area it stands for; empty: all alike).  Weighing by
+/// area makes the fit the surface's, not the tessellation's: on a scan meshed finely in
+/// one place, unweighted least squares tilts an approximate mirror towards that place
+/// (measured: 1.1 degrees on a scanned bust, 0.1-0.4 weighted by area).
 /// Point-to-plane steps (point-to-point steps crawl along directions in which the surface
 /// nearly slides onto itself): over all rigid motions or similarities, or over the pure
 /// mirrors for the Reflections group; the mean offset for translations.
-IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const SurfaceQuery& surface,
+IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights,
+                        const SurfaceQuery& surface,
                         const Transformation& start, TransformationGroup group, double tolerance, int iterations,
                         const IcpOptions& options);
 

@@ -75,6 +75,10 @@ MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
             faces_of[c[k]].push_back(int(f));
         }
     }
+    n.vertex_areas.assign(nv, 0.0);
+    for (size_t f = 0; f < n.faces.size(); ++f)
+        if (n.faces[f][0] >= 0)
+            for (int v : n.faces[f]) n.vertex_areas[size_t(v)] += n.face_areas[f] / 3;
     compress(around, n.neighbour_offsets, n.neighbours);
     compress(faces_of, n.face_offsets, n.faces_around);
     label_components(n);

@@ -24,6 +24,9 @@ struct MeshNeighbourhoods {
     std::vector<std::array<int, 3>> faces;           ///< corners of every face (deleted faces: -1)
     std::vector<Eigen::Vector3d> face_normals;       ///< unit, outward
     std::vector<double> face_areas;
+    /// A third of the area of the faces around each vertex: the surface a vertex stands
+    /// for, so that a fit over vertices weighs the surface and not its tessellation.
+    std::vector<double> vertex_areas;
     /// Connected components over mesh edges: the component of every vertex, and the
     /// vertices of component c in members[member_offsets[c] .. member_offsets[c+1]).
     std::vector<int> component_of;

@@ -12,9 +12,10 @@ struct SurfaceQuery::Grid {
     vcg::GridStaticPtr<Face, double> grid;
 };
 
-SurfaceQuery::SurfaceQuery(const Mesh& mesh) : mesh_(mesh), grid_(std::make_unique<Grid>()) {
+SurfaceQuery::SurfaceQuery(const Mesh& mesh, double cells_per_face) : mesh_(mesh), grid_(std::make_unique<Grid>()) {
     Mesh& m = const_cast<Mesh&>(mesh);  // vcg's grid stores non-const face pointers; it never writes
-    grid_->grid.Set(m.face.begin(), m.face.end());
+    const int cells = int(std::max(1.0, std::min(cells_per_face * double(m.face.size()), 1e8)));
+    grid_->grid.Set(m.face.begin(), m.face.end(), cells);
 }
 
 SurfaceQuery::~SurfaceQuery() = default;

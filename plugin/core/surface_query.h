@@ -21,7 +21,11 @@ struct ClosestPoint {
 
 class SurfaceQuery {
 public:
-    explicit SurfaceQuery(const Mesh& mesh);  ///< the mesh must outlive the query
+    /// The mesh must outlive the query.  The grid has `cells_per_face` cells per face (vcg's
+    /// default is one): a surface fills few of a grid's cells, so with one per face each
+    /// filled cell holds many faces, and every query tests them all.  Region growing asks
+    /// one query per vertex, many times over: a finer grid pays there.
+    explicit SurfaceQuery(const Mesh& mesh, double cells_per_face = 1);
     ~SurfaceQuery();
     /// The closest point of the surface within `max_distance` of `query`; found=false if none.
     ClosestPoint closest(const Eigen::Vector3d& query, double max_distance) const;

@@ -32,11 +32,27 @@ double systematic_deviation(const MeshNeighbourhoods& mesh, const std::vector<in
 
 namespace {
 
-std::vector<Eigen::Vector3d> positions_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices) {
-    std::vector<Eigen::Vector3d> p;
-    p.reserve(vertices.size());
-    for (int v : vertices) p.push_back(mesh.positions[size_t(v)]);
+// The vertices as ICP fits them: positions, each weighted by the area it stands for.
+struct FitPoints {
+    std::vector<Eigen::Vector3d> positions;
+    std::vector<double> areas;
+};
+
+FitPoints fit_points(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices) {
+    FitPoints p;
+    p.positions.reserve(vertices.size());
+    p.areas.reserve(vertices.size());
+    for (int v : vertices) {
+        p.positions.push_back(mesh.positions[size_t(v)]);
+        p.areas.push_back(mesh.vertex_areas[size_t(v)]);
+    }
     return p;
+}
+
+IcpResult refine_by_icp(const FitPoints& points, const SurfaceQuery& surface, const Transformation& start,
+                        TransformationGroup group, int iterations, const VerificationOptions& options) {
+    return refine_by_icp(points.positions, points.areas, surface, start, group, options.tolerance, iterations,
+                         options.icp);
 }
 
 double area_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, std::vector<char>& scratch) {
@@ -67,15 +83,21 @@ std::vector<int> order_seeds(std::vector<Seed> seeds, int vertex_count) {
 // on the patch when even the refitted transformation leaves a systematic deviation far
 // above the acceptance bound: two smooth patches touching, which growth would otherwise
 // slide along.  (The deviations are those recorded at acceptance, under the previous
-// fit: close enough for an early exit with a margin of two.)
+// fit: close enough for an early exit with a margin of two.)  A refit whose result is a
+// known relation stops the growth too, and sets `known_hit`.
 RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
-                                  const RegionGrower& grower, const VerificationOptions& options) {
-    return [&mesh, &surface, &grower, &options](const std::vector<int>& patch, Transformation& t) {
+                                  const RegionGrower& grower, const VerificationOptions& options,
+                                  const KnownRelation& known, bool& known_hit) {
+    return [&mesh, &surface, &grower, &options, &known, &known_hit](const std::vector<int>& patch, Transformation& t) {
         if (!options.refine_with_icp) return RefitOutcome::Unchanged;
-        IcpResult r = refine_by_icp(positions_of(mesh, patch), surface, t, options.group, options.tolerance,
-                                    options.icp.iterations_while_growing, options.icp);
+        IcpResult r = refine_by_icp(fit_points(mesh, patch), surface, t, options.group,
+                                    options.icp.iterations_while_growing, options);
         if (!r.refitted) return RefitOutcome::Unchanged;
         t = r.transform;
+        if (known && known(t)) {
+            known_hit = true;
+            return RefitOutcome::Hopeless;
+        }
         double systematic = systematic_deviation(mesh, patch, grower.deviations(), options.deviation_smoothing_iterations);
         if (systematic > 1.5 * options.max_systematic_deviation * options.tolerance) return RefitOutcome::Hopeless;
         return RefitOutcome::Refitted;
@@ -86,19 +108,21 @@ RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQ
 // current estimate of T with a copy of its own.  A component that is hopeless or too
 // small is dropped on its own (and its vertices are not tried again: a later seed inside
 // it would start from the same estimate and grow the same component).  The estimate is
-// refitted on all accepted components each time they have doubled.
+// refitted on all accepted components each time they have doubled.  Growth stops at
+// once, with `known` set, when the estimate becomes a known relation.
 struct SourceComponents {
     std::vector<int> vertices;
     Transformation estimate;
+    bool known = false;
 };
 
 SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                         const Transformation& mode, const std::vector<int>& seeds,
-                                        const VerificationOptions& options) {
+                                        const VerificationOptions& options, const KnownRelation& known) {
     RegionGrower grower(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
-    const RegionGrower::Refit refit = growing_refit(mesh, surface, grower, options);
-    std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
     SourceComponents out;
+    const RegionGrower::Refit refit = growing_refit(mesh, surface, grower, options, known, out.known);
+    std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
     out.estimate = mode;
     size_t refitted_at = 0;
     for (int seed : seeds) {
@@ -106,6 +130,7 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
         Transformation local = out.estimate;
         bool hopeless = false;
         std::vector<int> component = grower.grow(seed, local, nullptr, refit, hopeless);
+        if (out.known) return out;
         if (component.empty()) continue;
         if (hopeless || area_of(mesh, component, scratch) < options.min_patch_area) {
             grower.forbid(component);
@@ -115,10 +140,14 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
         out.vertices.insert(out.vertices.end(), component.begin(), component.end());
         if (first) out.estimate = local;
         if (options.refine_with_icp && out.vertices.size() >= 2 * refitted_at) {
-            IcpResult r = refine_by_icp(positions_of(mesh, out.vertices), surface, out.estimate, options.group,
-                                        options.tolerance, options.icp.iterations_while_growing, options.icp);
+            IcpResult r = refine_by_icp(fit_points(mesh, out.vertices), surface, out.estimate, options.group,
+                                        options.icp.iterations_while_growing, options);
             if (r.refitted) out.estimate = r.transform;
             refitted_at = out.vertices.size();
+            if (known && known(out.estimate)) {
+                out.known = true;
+                return out;
+            }
         }
     }
     std::sort(out.vertices.begin(), out.vertices.end());
@@ -133,21 +162,21 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
 // and stay as they are).
 Transformation final_fit(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const std::vector<int>& vertices,
                          const Transformation& start, const VerificationOptions& options) {
-    const std::vector<Eigen::Vector3d> points = positions_of(mesh, vertices);
-    IcpResult fit = refine_by_icp(points, surface, start, options.group, options.tolerance, options.icp.iterations,
-                                  options.icp);
+    const FitPoints points = fit_points(mesh, vertices);
+    IcpResult fit = refine_by_icp(points, surface, start, options.group, options.icp.iterations, options);
     if (!fit.refitted) return start;
     const Transformation& T = fit.transform;
     if (!T.reflection || options.group == TransformationGroup::Reflections || std::abs(T.scale - 1) > 1e-6) return T;
     const Transformation twice = T * T;
-    const size_t stride = std::max<size_t>(1, points.size() / 64);
-    for (size_t i = 0; i < points.size(); i += stride)
-        if ((twice.apply(points[i]) - points[i]).norm() > 4 * options.tolerance) return T;
+    const std::vector<Eigen::Vector3d>& p = points.positions;
+    const size_t stride = std::max<size_t>(1, p.size() / 64);
+    for (size_t i = 0; i < p.size(); i += stride)
+        if ((twice.apply(p[i]) - p[i]).norm() > 4 * options.tolerance) return T;
     Eigen::Vector3d n;
     double d;
     mirror_plane(T, n, d);
     IcpResult mirror = refine_by_icp(points, surface, pure_mirror(n, d), TransformationGroup::Reflections,
-                                     options.tolerance, options.icp.iterations, options.icp);
+                                     options.icp.iterations, options);
     return mirror.refitted && mirror.rms <= options.mirror_snap_rms_ratio * fit.rms + 1e-3 * options.tolerance
                ? mirror.transform
                : T;
@@ -204,11 +233,19 @@ std::vector<int> regrow_under_final_transform(const MeshNeighbourhoods& mesh, co
     return patch;
 }
 
-// Step 4: a symmetry moves its patch (the identity and small slides along a continuous
-// self-map do not), covers enough area, and deviates from perfect symmetry only by what
-// averages out (see VerificationOptions::max_systematic_deviation).
-bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, VerifiedSymmetry& s,
-            const VerificationOptions& options) {
+// The bound on a patch's systematic deviation, as a fraction of the tolerance: it rises
+// with the square of the area up to half the model (see
+// VerificationOptions::max_systematic_deviation).
+double systematic_bound(double area, const VerificationOptions& options) {
+    const double largeness = options.large_patch_area > 0 ? std::min(1.0, area / options.large_patch_area) : 1.0;
+    return options.max_systematic_deviation_small +
+           largeness * largeness * (options.max_systematic_deviation - options.max_systematic_deviation_small);
+}
+
+// Step 4a: the deviation of every source vertex (recorded by the grower under the final
+// T), its RMS and largest value, and the patch's area and displacement.  Returns the RMS
+// displacement of the patch under T.
+double measure_patch(const MeshNeighbourhoods& mesh, const RegionGrower& grower, VerifiedSymmetry& s) {
     double displacement2 = 0, deviation2 = 0;
     for (int v : s.source_vertices) {
         const Eigen::Vector3d& p = mesh.positions[size_t(v)];
@@ -219,24 +256,42 @@ bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, Verified
         displacement2 += (s.transform.apply(p) - p).squaredNorm();
     }
     const double count = double(s.source_vertices.size());
-    const double moved = std::sqrt(displacement2 / count);
-    if (moved < options.tolerance) return false;
-    s.small_motion = moved < options.min_displacement;
+    s.rms_error = std::sqrt(deviation2 / count);
     std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
     s.source_area = area_of(mesh, s.source_vertices, scratch);
-    if (s.source_area < options.min_patch_area) return false;
-    s.rms_error = std::sqrt(deviation2 / count);
+    return std::sqrt(displacement2 / count);
+}
+
+double median_magnitude(const std::vector<double>& values) {
     std::vector<double> magnitudes;
-    magnitudes.reserve(s.source_deviation.size());
-    for (double d : s.source_deviation) magnitudes.push_back(std::abs(d));
+    magnitudes.reserve(values.size());
+    for (double d : values) magnitudes.push_back(std::abs(d));
     std::nth_element(magnitudes.begin(), magnitudes.begin() + long(magnitudes.size() / 2), magnitudes.end());
-    if (magnitudes[magnitudes.size() / 2] > options.max_median_deviation * options.tolerance) return false;
+    return magnitudes[magnitudes.size() / 2];
+}
+
+// Step 4b: the deviation is coherent under the tolerance: most of the patch maps closely
+// (the median), and what does not average out (the systematic part) stays within the bound
+// for the patch's size.
+bool coherent(const MeshNeighbourhoods& mesh, const RegionGrower& grower, VerifiedSymmetry& s,
+              const VerificationOptions& options) {
+    const double median = median_magnitude(s.source_deviation);
+    if (median > options.max_median_deviation * options.tolerance) return false;
     s.systematic_error = systematic_deviation(mesh, s.source_vertices, grower.deviations(),
                                               options.deviation_smoothing_iterations);
-    const double largeness = options.large_patch_area > 0 ? std::min(1.0, s.source_area / options.large_patch_area) : 1.0;
-    const double bound = options.max_systematic_deviation_small +
-                         largeness * largeness * (options.max_systematic_deviation - options.max_systematic_deviation_small);
-    return s.systematic_error <= bound * options.tolerance + options.systematic_noise_allowance * options.noise;
+    return s.systematic_error <= systematic_bound(s.source_area, options) * options.tolerance +
+                                     options.systematic_noise_allowance * options.noise;
+}
+
+// Step 4: a symmetry moves its patch (the identity and small slides along a continuous
+// self-map do not), covers enough area, and deviates from perfect symmetry coherently.
+bool accept(const MeshNeighbourhoods& mesh, const RegionGrower& grower, VerifiedSymmetry& s,
+            const VerificationOptions& options) {
+    const double moved = measure_patch(mesh, grower, s);
+    if (moved < options.tolerance) return false;
+    s.small_motion = moved < options.min_displacement;
+    if (s.source_area < options.min_patch_area) return false;
+    return coherent(mesh, grower, s, options);
 }
 
 // Step 5: the target patch, the vertices w whose preimage T⁻¹(w) lands on a face of the
@@ -271,10 +326,10 @@ void grow_target_side(const MeshNeighbourhoods& mesh, const SurfaceQuery& surfac
 
 std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                                  const Transformation& mode, std::vector<Seed> seeds,
-                                                 const VerificationOptions& options) {
+                                                 const VerificationOptions& options, const KnownRelation& known) {
     const std::vector<int> order = order_seeds(std::move(seeds), mesh.vertex_count());
-    SourceComponents components = grow_source_components(mesh, surface, mode, order, options);
-    if (components.vertices.empty()) return std::nullopt;
+    SourceComponents components = grow_source_components(mesh, surface, mode, order, options, known);
+    if (components.known || components.vertices.empty()) return std::nullopt;
 
     VerifiedSymmetry s;
     s.transform = components.estimate;

@@ -33,13 +33,16 @@ Exhaustive scan(const Mesh& mesh, const Eigen::Vector3d& q, const Eigen::Vector3
     return e;
 }
 
-TEST(SurfaceQuery, LandingAgreesWithAnExhaustiveScan) {
+// The answers do not depend on the grid's resolution, only the work does.
+class SurfaceQueryGrid : public ::testing::TestWithParam<double> {};
+
+TEST_P(SurfaceQueryGrid, LandingAgreesWithAnExhaustiveScan) {
     // A box: its creases are where the nearest face and the facing face differ.
     const testing::Shape s = testing::box(1.0, 0.6, 0.4, 6);
     auto mesh = std::make_unique<Mesh>();
     std::vector<int> map;
     build_mesh(s.V, s.F, *mesh, map);
-    const SurfaceQuery surface(*mesh);
+    const SurfaceQuery surface(*mesh, GetParam());
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> coordinate(-0.7, 0.7);
     const double max_distance = 0.1, tie = 1e-4, min_cosine = std::cos(M_PI / 4);
@@ -70,6 +73,8 @@ TEST(SurfaceQuery, LandingAgreesWithAnExhaustiveScan) {
     EXPECT_GT(landed, 100);
     EXPECT_GT(facing, 20);
 }
+
+INSTANTIATE_TEST_SUITE_P(CellsPerFace, SurfaceQueryGrid, ::testing::Values(1.0, 8.0, 64.0));
 
 }  // namespace
 }  // namespace symmetry

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 using namespace symmetry;
@@ -226,4 +227,70 @@ TEST(Verification, AWrongSeedDoesNotAbortATrueSymmetry) {
     auto result = verify_candidate(n, surface, scene.planted, seeds, box_options(scene.mesh));
     ASSERT_TRUE(result.has_value());
     EXPECT_EQ(int(result->source_vertices.size()), scene.base_vertices);
+}
+
+TEST(Verification, ACandidateThatConvergesOntoAKnownRelationStopsThere) {
+    BoxScene scene;
+    build_boxes(scene);
+    const MeshNeighbourhoods n = mesh_neighbourhoods(scene.mesh);
+    const SurfaceQuery surface(scene.mesh);
+    Transformation rough = scene.planted;
+    rough.translation += Eigen::Vector3d(0.01, -0.005, 0.008);
+    const std::vector<Seed> seeds = {{7, 0.0}, {300, 0.1}};
+    // Known: the planted relation.  The estimate reaches it while the first component grows.
+    int asked = 0;
+    double nearest = INFINITY;
+    const KnownRelation planted = [&](const Transformation& t) {
+        ++asked;
+        nearest = std::min(nearest, (t.matrix() - scene.planted.matrix()).norm());
+        return (t.matrix() - scene.planted.matrix()).norm() < 1e-3;
+    };
+    EXPECT_FALSE(verify_candidate(n, surface, rough, seeds, box_options(scene.mesh), planted).has_value());
+    EXPECT_GT(asked, 0);
+    EXPECT_LT(nearest, 1e-3);
+    // Known: something else.  The result is the one without the test.
+    const KnownRelation other = [](const Transformation&) { return false; };
+    auto with = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh), other);
+    auto without = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh));
+    ASSERT_TRUE(with.has_value() && without.has_value());
+    EXPECT_EQ(with->source_vertices, without->source_vertices);
+    EXPECT_EQ(with->transform.matrix(), without->transform.matrix());
+}
+
+TEST(Icp, AWeightOfTwoIsAPointCountedTwice) {
+    BoxScene scene;
+    build_boxes(scene);
+    const SurfaceQuery surface(scene.mesh);
+    const double tolerance = 0.01 * scene.mesh.bbox.Diag();
+    std::vector<Eigen::Vector3d> points, twice;
+    std::vector<double> weights;
+    for (int v = 0; v < scene.base_vertices && points.size() < 700; ++v) {
+        const auto& p = scene.mesh.vert[size_t(v)].cP();
+        // Off the box a little, differently from point to point, so that the best fit
+        // depends on how the points are weighted.
+        const double bump = 0.002 * std::sin(0.7 * v);
+        points.push_back(Eigen::Vector3d(p[0] + bump, p[1] - 0.5 * bump, p[2] + (v % 2 ? bump : 0.0)));
+        const bool doubled = v % 4 == 0;
+        weights.push_back(doubled ? 2.0 : 1.0);
+        twice.push_back(points.back());
+        if (doubled) twice.push_back(points.back());
+    }
+    IcpOptions options;
+    ASSERT_LT(twice.size(), size_t(options.max_points));  // every point is used: no stride
+    Transformation rough = scene.planted;
+    rough.rotation = Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()).toRotationMatrix() * rough.rotation;
+    rough.translation += Eigen::Vector3d(0.02, 0.01, -0.01);
+    for (TransformationGroup group : {TransformationGroup::Rigid, TransformationGroup::Similarity}) {
+        // One step each: over many, a step just above or below the convergence threshold
+        // would let the two runs stop at different iterations.
+        IcpResult weighted = refine_by_icp(points, weights, surface, rough, group, tolerance, 1, options);
+        IcpResult counted = refine_by_icp(twice, {}, surface, rough, group, tolerance, 1, options);
+        ASSERT_TRUE(weighted.refitted && counted.refitted);
+        EXPECT_LT((weighted.transform.matrix() - counted.transform.matrix()).norm(), 1e-9) << int(group);
+        EXPECT_NEAR(weighted.rms, counted.rms, 1e-9 * counted.rms);
+        // The weights matter, and the fit is near the planted copy all the same.
+        IcpResult plain = refine_by_icp(points, {}, surface, rough, group, tolerance, 20, options);
+        EXPECT_GT((plain.transform.matrix() - weighted.transform.matrix()).norm(), 1e-6) << int(group);
+        EXPECT_LT((weighted.transform.matrix() - scene.planted.matrix()).norm(), 1e-2) << int(group);
+    }
 }
