@@ -27,6 +27,17 @@ struct MeanShiftOptions {
     /// so the modes found first are the high ones; a caller that can only use the top few
     /// need not climb every hill of the background noise.
     int max_modes = 0;
+    /// An ascent that comes within this many bandwidths of a mode found before stops there:
+    /// it is that mode's.  Within h/2 it would end there (modes closer than h/2 are merged);
+    /// within h its votes are that mode's members, and verification takes two modes closer
+    /// than h for one relation (it tries the higher only).  Measured on a coarse helmet
+    /// (1,000 faces, 130,000 points in Γ): 95 % of the ascents join a known mode, after 8
+    /// steps on average at h/2.
+    double join_radius = 1.0;
+    /// Ascents climbed at a time, on every core (see mean_shift()).  The result does not
+    /// depend on it; the work does: an ascent whose start a path committed before it covers
+    /// was climbed in vain.
+    int batch_size = 4;
     /// Called on every updated estimate; lets the caller keep modes on a manifold
     /// (here: the rotation block on SO(3)).  May be empty.
     std::function<void(Eigen::Ref<Eigen::VectorXd>)> project;
@@ -38,7 +49,7 @@ struct MeanShiftOptions {
 /// points are taken in decreasing order of density and skipped when they lie within h/2
 /// of an earlier ascent path, which they would follow anyway (Comaniciu and Meer's basin
 /// of attraction); modes closer than h/2 are merged.  Clusters are returned in
-/// decreasing order of height; the result is deterministic.
+/// decreasing order of height; the result is deterministic, and the same at any thread count.
 std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& options);
 
 }  // namespace symmetry

@@ -106,3 +106,39 @@ TEST(MeanShift, ThinBackgroundGivesNoCluster) {
     KdTree tree(points);
     EXPECT_TRUE(mean_shift(tree, options).empty());
 }
+
+// Ascents climbed in batches on every core are committed as if climbed one after the
+// other: any batch size gives the modes, heights and members of the sequence.  A ridge
+// (points along a line, as a continuous family makes) and close clusters make ascents
+// join modes that earlier ascents of the same batch found.
+TEST(MeanShift, BatchesOfAscentsGiveTheSequentialResult) {
+    std::mt19937_64 rng(17);
+    const int dim = 7;
+    std::vector<Eigen::VectorXd> centres;
+    for (double t : {-0.3, 0.0, 0.05, 0.4}) centres.push_back(Eigen::VectorXd::Constant(dim, t));
+    KdTree::Points points = planted(dim, centres, 150, 2000, 0.03, rng);
+    KdTree::Points ridge(400, dim);
+    std::uniform_real_distribution<double> along(-0.8, 0.8);
+    std::normal_distribution<double> off(0.0, 0.01);
+    for (int i = 0; i < 400; ++i)
+        for (int d = 0; d < dim; ++d) ridge(i, d) = (d == 0 ? along(rng) : 0.6) + off(rng);
+    KdTree::Points all(points.rows() + ridge.rows(), dim);
+    all << points, ridge;
+    const KdTree tree(all);
+    MeanShiftOptions options;
+    options.bandwidth = 0.12;
+    options.min_support = 5;
+    options.batch_size = 1;
+    const std::vector<Cluster> sequential = mean_shift(tree, options);
+    ASSERT_GT(sequential.size(), 4u);
+    for (int batch : {2, 3, 8, 64}) {
+        options.batch_size = batch;
+        const std::vector<Cluster> batched = mean_shift(tree, options);
+        ASSERT_EQ(batched.size(), sequential.size()) << "batch " << batch;
+        for (size_t k = 0; k < batched.size(); ++k) {
+            EXPECT_EQ(batched[k].height, sequential[k].height) << "batch " << batch;
+            EXPECT_EQ(batched[k].members, sequential[k].members) << "batch " << batch;
+            EXPECT_EQ((batched[k].mode - sequential[k].mode).norm(), 0.0) << "batch " << batch;
+        }
+    }
+}

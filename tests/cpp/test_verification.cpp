@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
 using namespace symmetry;
@@ -195,19 +196,30 @@ TEST(Verification, GrowthCrossesSharpCreases) {
     EXPECT_EQ(int(result->source_vertices.size()), scene.base_vertices);
 }
 
-TEST(Verification, TheOrderOfTheSeedsDoesNotMatter) {
+// The box scene with its structures, and the planted transformation a little off.
+class RoughBoxes : public ::testing::Test {
+protected:
+    RoughBoxes() {
+        build_boxes(scene);  // in place: a vcg mesh must not be copied
+        n = mesh_neighbourhoods(scene.mesh);
+        query = std::make_unique<SurfaceQuery>(scene.mesh);
+        rough = scene.planted;
+        rough.translation += Eigen::Vector3d(0.01, -0.005, 0.008);
+    }
     BoxScene scene;
-    build_boxes(scene);
-    const MeshNeighbourhoods n = mesh_neighbourhoods(scene.mesh);
-    const SurfaceQuery surface(scene.mesh);
-    Transformation rough = scene.planted;
-    rough.translation += Eigen::Vector3d(0.01, -0.005, 0.008);
+    MeshNeighbourhoods n;
+    std::unique_ptr<SurfaceQuery> query;
+    const SurfaceQuery& surface() const { return *query; }
+    Transformation rough;
+};
+
+TEST_F(RoughBoxes, TheOrderOfTheSeedsDoesNotMatter) {
     std::vector<Seed> seeds;
     for (int v = 0; v < scene.base_vertices; v += 37) seeds.push_back({v, 0.001 * (v % 5)});
-    auto a = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh));
+    auto a = verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh));
     std::reverse(seeds.begin(), seeds.end());
     std::rotate(seeds.begin(), seeds.begin() + 3, seeds.end());
-    auto b = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh));
+    auto b = verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh));
     ASSERT_TRUE(a.has_value() && b.has_value());
     EXPECT_EQ(a->source_vertices, b->source_vertices);
     EXPECT_EQ(a->target_vertices, b->target_vertices);
@@ -229,13 +241,7 @@ TEST(Verification, AWrongSeedDoesNotAbortATrueSymmetry) {
     EXPECT_EQ(int(result->source_vertices.size()), scene.base_vertices);
 }
 
-TEST(Verification, ACandidateThatConvergesOntoAKnownRelationStopsThere) {
-    BoxScene scene;
-    build_boxes(scene);
-    const MeshNeighbourhoods n = mesh_neighbourhoods(scene.mesh);
-    const SurfaceQuery surface(scene.mesh);
-    Transformation rough = scene.planted;
-    rough.translation += Eigen::Vector3d(0.01, -0.005, 0.008);
+TEST_F(RoughBoxes, ACandidateThatConvergesOntoAKnownRelationStopsThere) {
     const std::vector<Seed> seeds = {{7, 0.0}, {300, 0.1}};
     // Known: the planted relation.  The estimate reaches it while the first component grows.
     int asked = 0;
@@ -245,13 +251,13 @@ TEST(Verification, ACandidateThatConvergesOntoAKnownRelationStopsThere) {
         nearest = std::min(nearest, (t.matrix() - scene.planted.matrix()).norm());
         return (t.matrix() - scene.planted.matrix()).norm() < 1e-3;
     };
-    EXPECT_FALSE(verify_candidate(n, surface, rough, seeds, box_options(scene.mesh), planted).has_value());
+    EXPECT_FALSE(verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh), planted).has_value());
     EXPECT_GT(asked, 0);
     EXPECT_LT(nearest, 1e-3);
     // Known: something else.  The result is the one without the test.
     const KnownRelation other = [](const Transformation&) { return false; };
-    auto with = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh), other);
-    auto without = verify_candidate(n, surface, rough, seeds, box_options(scene.mesh));
+    auto with = verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh), other);
+    auto without = verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh));
     ASSERT_TRUE(with.has_value() && without.has_value());
     EXPECT_EQ(with->source_vertices, without->source_vertices);
     EXPECT_EQ(with->transform.matrix(), without->transform.matrix());
