@@ -32,10 +32,14 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, b
 
 	parameters.addParam(RichEnum(
 		"transformation_group", int(o.group), groupNames(), "Transformation group",
-		"The symmetries looked for (§2 of the paper). Rigid: every rotation, reflection and translation "
-		"that maps a part of the surface onto another part. Similarities: rigid plus uniform scaling, for "
-		"parts repeated at different sizes. Reflections only: mirror symmetries. Translations only: parts "
-		"repeated in the same orientation."));
+		"The symmetries looked for (§2 of the paper). Rigid (the default, when you do not know what to "
+		"expect): every rotation, reflection and translation that maps a part of the surface onto another "
+		"part, e.g. the mirror of a face and the repeated wheels of a car. Similarities: rigid plus uniform "
+		"scaling, for parts repeated at different sizes, e.g. the chambers of a shell. Reflections only: "
+		"mirror planes, global or partial, e.g. the plane of a scanned head; it reports the mirror planes "
+		"the rigid group finds, usually in less time, and nothing else (a mirrored copy set down in another "
+		"orientation is a mirror composed with a turn: rigid group only). Translations only: parts repeated "
+		"in the same orientation, e.g. the windows of a facade or the teeth of a rack."));
 	parameters.addParam(RichInt(
 		"sample_count", o.sample_count, "Surface samples",
 		"Number of points sampled uniformly on the surface before umbilic pruning (§5). More samples find "

@@ -11,6 +11,9 @@ ones: a nonzero continuous_kinds entry is skipped) it takes the one closest to e
 plane and prints the angle between the planes (degrees), the offset error (% of the
 diagonal), whether that is within FOUND_DEG and FOUND_OFFSET, and the seconds of the run;
 then per group the number of models whose every mirror plane is found, and of planes.
+The last column says whether group 2 reports group 0's own reflection of that plane too, the
+same plane within 0.1 degree and 0.2 % of the diagonal (issue 11: a restricted group finds what
+the full group finds; tests/group_containment.py).
 
 It measures and does not assert: the exit status is 0 unless the filter raises an error.
 """
@@ -24,6 +27,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
+import group_containment as gc  # noqa: E402
 import real_models  # noqa: E402
 
 GROUPS = (0, 2)
@@ -58,6 +62,21 @@ def closest(reflections, plane, diag):
     return min(errors, key=lambda e: e[0] / FOUND_DEG + e[1] / FOUND_OFFSET)
 
 
+def same_in(reflections, T0, plane, diag):
+    """Whether one of `reflections` is the plane of reflection T0 (measured at the true
+    plane's point) within gc.SAME_DEG and gc.SAME_OFFSET."""
+    mine = gc.plane_of(T0, np.asarray([plane.point]))
+    return any(a <= gc.SAME_DEG and o <= gc.SAME_OFFSET
+               for a, o in (real_models.mirror_angle_error(T, mine, diag) for T in reflections))
+
+
+def nearest_to(reflections, plane, diag):
+    """The reported reflection (4x4) nearest to the true plane, as closest() ranks them."""
+    errors = [real_models.mirror_angle_error(T, plane, diag) for T in reflections]
+    return reflections[min(range(len(errors)), key=lambda k: errors[k][0] / FOUND_DEG
+                           + errors[k][1] / FOUND_OFFSET)]
+
+
 def is_found(err):
     return err is not None and err[0] <= FOUND_DEG and err[1] <= FOUND_OFFSET
 
@@ -77,11 +96,12 @@ def main(argv=None):
     models = [m for m in real_models.real_models() if not args.only or m.name in args.only]
 
     group_head = " ".join(f"g{g}: {'deg':>6} {'off%':>7} {'found':>5} {'sec':>6}" for g in GROUPS)
-    header = f"{'model':<18} {'tris':>6} {'kind':<6} {group_head}"
+    header = f"{'model':<18} {'tris':>6} {'kind':<6} {group_head}  g2 has g0's"
     print(header)
     print("-" * len(header))
     found = {g: 0 for g in GROUPS}          # planes
     models_found = {g: 0 for g in GROUPS}   # models with every plane found
+    contained = [0, 0]                      # group 0's found planes, and those group 2 has too
     rows = []
     for m in models:
         V, F = m.load()
@@ -93,8 +113,15 @@ def main(argv=None):
             for g in GROUPS:
                 found[g] += is_found(errs[g])
                 all_found[g] &= is_found(errs[g])
+            has = "-"
+            if is_found(errs[0]):
+                same = same_in(runs[2][0], nearest_to(runs[0][0], plane, m.diagonal), plane, m.diagonal)
+                contained[0] += 1
+                contained[1] += same
+                has = "yes" if same else "NO"
             print(f"{label:<18} {m.triangles:>6} {m.kind[:6]:<6} "
-                  + " ".join(f"    {cells(errs[g], runs[g][1])}" for g in GROUPS), flush=True)
+                  + " ".join(f"    {cells(errs[g], runs[g][1])}" for g in GROUPS) + f"  {has:>11}",
+                  flush=True)
             rows.append(dict(model=m.name, plane=k, triangles=m.triangles, kind=m.kind,
                              **{f"group{g}": dict(angle_deg=None if errs[g] is None else errs[g][0],
                                                   offset=None if errs[g] is None else errs[g][1],
@@ -109,6 +136,10 @@ def main(argv=None):
         print(f"transformation_group={g}: {models_found[g]}/{len(models)} models with every "
               f"mirror plane found, {found[g]}/{total} planes (within {FOUND_DEG:g} degree and "
               f"{100 * FOUND_OFFSET:g}% of the diagonal)")
+    print(f"transformation_group=2 reports {contained[1]}/{contained[0]} of the planes group 0 found, "
+          f"the same plane as group 0's within {gc.SAME_DEG:g} degree and {100 * gc.SAME_OFFSET:g}% "
+          f"of the diagonal; {sum(r['group2']['seconds'] for r in rows if r['plane'] == 0):.1f} s "
+          f"against group 0's {sum(r['group0']['seconds'] for r in rows if r['plane'] == 0):.1f} s")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)

@@ -13,6 +13,9 @@
   per session (a failed fetch fails the tests that need them, with the fetch's reason).
 - ``cgal_dir``: the folder of CGAL's CAD meshes (tests/fetch_cgal_meshes.sh), fetched once
   per session if missing, likewise.
+- ``scene_detection(name, group=None)``: (scene, result, accuracy figures) of one scene of
+  tests/scenes.py at seed 0, the filter run with its defaults plus the scene's filter_params
+  (and transformation_group=group when given), once per session for all test modules.
 """
 import numpy as np
 import pymeshlab
@@ -141,3 +144,26 @@ def cgal_meshes_dir():
 @pytest.fixture(scope="session")
 def cgal_dir():
     return cgal_meshes_dir()
+
+
+_scene_runs = {}
+
+
+def scene_detection(name, group=None):
+    """(scene, metrics.DetectionResult, metrics.accuracy figures) of scene `name` at seed 0,
+    detected with create_patch_layers and the scene's filter_params, transformation_group
+    overridden by `group` if given; computed once per session."""
+    import os
+    import sys
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    import metrics
+    import scenes
+    key = (name, group)
+    if key not in _scene_runs:
+        s = scenes.make_scene(name, 0)
+        params = dict(s.filter_params, create_patch_layers=True)
+        if group is not None:
+            params["transformation_group"] = group
+        res = metrics.run_filter(s, **params)
+        _scene_runs[key] = (s, res, metrics.accuracy(s, res))
+    return _scene_runs[key]

@@ -16,19 +16,8 @@ import pytest
 
 TESTS_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, TESTS_DIR)
-import metrics  # noqa: E402
 import scenes  # noqa: E402
-
-_cache = {}
-
-
-def scored(name):
-    """(scene, result, figures) of one scene at seed 0, computed once per session."""
-    if name not in _cache:
-        s = scenes.make_scene(name, 0)
-        res = metrics.run_filter(s, **dict(s.filter_params, create_patch_layers=True))
-        _cache[name] = (s, res, metrics.accuracy(s, res))
-    return _cache[name]
+from conftest import scene_detection as scored  # noqa: E402  (scene, result, figures), cached
 
 
 def labels(fig):
