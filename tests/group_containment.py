@@ -54,10 +54,13 @@ REFLECTION, TRANSLATION = "reflection", "translation"
 GROUP_KIND = {2: REFLECTION, 3: TRANSLATION}
 
 
+#: (unit normal n, offset d) of the plane n.x = d of a reflection
+mirror_plane = real_models.reflection_plane
+
+
 def rotation_angle_deg(T: np.ndarray) -> float:
-    R = np.asarray(T, float)[:3, :3]
-    U, _, Wt = np.linalg.svd(R)
-    Q = U @ Wt
+    """The rotation angle of the orthogonal part of T's linear map (degrees)."""
+    Q = real_models._orthogonal_part(np.asarray(T, float)[:3, :3])
     return math.degrees(math.acos(np.clip((np.trace(Q) - 1.0) / 2.0, -1.0, 1.0)))
 
 
@@ -87,18 +90,6 @@ def glide_length(T: np.ndarray) -> float:
     n, _ = mirror_plane(T)
     t = np.asarray(T, float)[:3, 3]
     return float(np.linalg.norm(t - np.dot(t, n) * n))
-
-
-def mirror_plane(T: np.ndarray):
-    """(unit normal n, offset d) of the plane n.x = d of a reflection x -> A x + t: n is the
-    eigenvector of the orthogonal part of A for the eigenvalue nearest -1, and the midpoint
-    of x and its image lies on the plane, so d = n.t / 2."""
-    T = np.asarray(T, float)
-    U, _, Wt = np.linalg.svd(T[:3, :3])
-    w, v = np.linalg.eig(U @ Wt)
-    n = np.real(v[:, int(np.argmin(np.abs(w + 1.0)))])
-    n /= np.linalg.norm(n)
-    return n, 0.5 * float(np.dot(n, T[:3, 3]))
 
 
 def plane_of(T: np.ndarray, points: np.ndarray) -> real_models.Plane:
@@ -208,9 +199,10 @@ def containment(full, restricted, group: int, required: Sequence[int], diag: flo
     plane its patch does not determine is marked so (Match.determined) and need not be
     matched."""
     kind = GROUP_KIND[group]
+    of_kind = set(reports_of_kind(full, kind, diag))
     out = []
     for k in required:
-        if k not in reports_of_kind(full, kind, diag):
+        if k not in of_kind:
             continue
         P = full.source_patches.get(k)
         P = P if P is not None and len(P) else vertices

@@ -54,12 +54,13 @@ def run_filter(V, F, group):
 
 
 def closest(reflections, plane, diag):
-    """(angle deg, offset fraction) of the reported reflection nearest to the true plane, by
-    angle in units of FOUND_DEG plus offset in units of FOUND_OFFSET; None if none."""
-    errors = [real_models.mirror_angle_error(T, plane, diag) for T in reflections]
-    if not errors:
-        return None
-    return min(errors, key=lambda e: e[0] / FOUND_DEG + e[1] / FOUND_OFFSET)
+    """((angle deg, offset fraction), 4x4) of the reported reflection nearest to the true
+    plane, by angle in units of FOUND_DEG plus offset in units of FOUND_OFFSET; (None, None)
+    if none."""
+    scored = [(real_models.mirror_angle_error(T, plane, diag), T) for T in reflections]
+    if not scored:
+        return None, None
+    return min(scored, key=lambda s: s[0][0] / FOUND_DEG + s[0][1] / FOUND_OFFSET)
 
 
 def same_in(reflections, T0, plane, diag):
@@ -68,13 +69,6 @@ def same_in(reflections, T0, plane, diag):
     mine = gc.plane_of(T0, np.asarray([plane.point]))
     return any(a <= gc.SAME_DEG and o <= gc.SAME_OFFSET
                for a, o in (real_models.mirror_angle_error(T, mine, diag) for T in reflections))
-
-
-def nearest_to(reflections, plane, diag):
-    """The reported reflection (4x4) nearest to the true plane, as closest() ranks them."""
-    errors = [real_models.mirror_angle_error(T, plane, diag) for T in reflections]
-    return reflections[min(range(len(errors)), key=lambda k: errors[k][0] / FOUND_DEG
-                           + errors[k][1] / FOUND_OFFSET)]
 
 
 def is_found(err):
@@ -109,13 +103,14 @@ def main(argv=None):
         all_found = {g: True for g in GROUPS}
         for k, plane in enumerate(m.planes):
             label = m.name if len(m.planes) == 1 else f"{m.name}#{k}"
-            errs = {g: closest(runs[g][0], plane, m.diagonal) for g in GROUPS}
+            best = {g: closest(runs[g][0], plane, m.diagonal) for g in GROUPS}
+            errs = {g: best[g][0] for g in GROUPS}
             for g in GROUPS:
                 found[g] += is_found(errs[g])
                 all_found[g] &= is_found(errs[g])
             has = "-"
             if is_found(errs[0]):
-                same = same_in(runs[2][0], nearest_to(runs[0][0], plane, m.diagonal), plane, m.diagonal)
+                same = same_in(runs[2][0], best[0][1], plane, m.diagonal)
                 contained[0] += 1
                 contained[1] += same
                 has = "yes" if same else "NO"
