@@ -194,35 +194,88 @@ struct Candidate {
 };
 
 // §3.1: mean shift, separately for proper and improper transformations (they are different
-// sheets of Γ; no path of small steps joins them).  Most votes first.
-std::vector<Candidate> cluster(const Votes& votes, const std::vector<char>& active, const TransformationSpace& space,
-                               const DetectionOptions& options, int max_modes) {
-    std::vector<Candidate> candidates;
-    for (bool reflection : {false, true}) {
-        std::vector<int> index;
-        for (size_t i = 0; i < votes.points.size(); ++i)
-            if (active[i] && votes.points[i].reflection == reflection) index.push_back(int(i));
-        if (index.empty()) continue;
-        KdTree::Points coordinates(index.size(), TransformationSpace::kDimension);
-        for (size_t i = 0; i < index.size(); ++i) coordinates.row(long(i)) = space.coordinates(votes.points[size_t(index[i])]).transpose();
-        const KdTree tree(std::move(coordinates));
-        MeanShiftOptions ms;
-        ms.bandwidth = options.cluster_bandwidth;
-        ms.min_support = options.min_cluster_support;
-        ms.max_modes = max_modes;
-        ms.project = [&space](Eigen::Ref<Eigen::VectorXd> x) { space.project(x); };
-        for (const Cluster& c : mean_shift(tree, ms)) {
-            Candidate candidate;
-            candidate.transform = space.transformation(c.mode, reflection);
-            candidate.height = c.height;
-            for (int m : c.members) candidate.votes.push_back(index[size_t(m)]);
-            candidates.push_back(std::move(candidate));
+// sheets of Γ; no path of small steps joins them).  Clustered again whenever votes leave Γ
+// (see search()): a sheet that lost none keeps its candidates, and one that lost some
+// counts the densities again only around the votes that left, the rest being unchanged.
+class Clustering {
+public:
+    Clustering(const Votes& votes, const TransformationSpace& space, const DetectionOptions& options, int max_modes)
+        : votes_(votes), space_(space) {
+        ms_.bandwidth = options.cluster_bandwidth;
+        ms_.min_support = options.min_cluster_support;
+        ms_.max_modes = max_modes;
+        ms_.project = [&space](Eigen::Ref<Eigen::VectorXd> x) { space.project(x); };
+        for (bool reflection : {false, true}) {
+            Sheet& sheet = sheets_[reflection];
+            sheet.reflection = reflection;
+            for (size_t i = 0; i < votes.points.size(); ++i)
+                if (votes.points[i].reflection == reflection) sheet.index.push_back(int(i));
         }
     }
-    std::stable_sort(candidates.begin(), candidates.end(),
-                     [](const Candidate& a, const Candidate& b) { return a.height > b.height; });
-    return candidates;
-}
+
+    /// The clusters of the active votes as candidates, most votes first.
+    std::vector<Candidate> candidates(const std::vector<char>& active) {
+        std::vector<Candidate> out;
+        for (Sheet& sheet : sheets_) {
+            update(sheet, active);
+            out.insert(out.end(), sheet.candidates.begin(), sheet.candidates.end());
+        }
+        std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) { return a.height > b.height; });
+        return out;
+    }
+
+private:
+    struct Sheet {
+        bool reflection = false;
+        bool clustered = false;
+        std::vector<int> index;    // its votes: indices into Votes::points
+        std::vector<int> density;  // mean shift's density at each of them
+        std::vector<Candidate> candidates;
+    };
+
+    KdTree::Points coordinates(const std::vector<int>& index) const {
+        KdTree::Points x(index.size(), TransformationSpace::kDimension);
+        for (size_t i = 0; i < index.size(); ++i) x.row(long(i)) = space_.coordinates(votes_.points[size_t(index[i])]).transpose();
+        return x;
+    }
+
+    void update(Sheet& sheet, const std::vector<char>& active) {
+        std::vector<int> kept, earlier, removed;  // earlier: each kept vote's entry in sheet.index
+        for (size_t k = 0; k < sheet.index.size(); ++k) {
+            const int v = sheet.index[k];
+            if (active[size_t(v)]) {
+                kept.push_back(v);
+                earlier.push_back(int(k));
+            } else {
+                removed.push_back(v);
+            }
+        }
+        if (sheet.clustered && removed.empty()) return;
+        const bool again = sheet.clustered;
+        sheet.clustered = true;
+        sheet.candidates.clear();
+        if (kept.empty()) {
+            sheet.index.clear();
+            return;
+        }
+        const KdTree tree(coordinates(kept));
+        sheet.density = again ? densities_after_removal(tree, sheet.density, earlier, coordinates(removed), ms_)
+                              : densities(tree, ms_);
+        sheet.index = std::move(kept);
+        for (const Cluster& c : mean_shift(tree, sheet.density, ms_)) {
+            Candidate candidate;
+            candidate.transform = space_.transformation(c.mode, sheet.reflection);
+            candidate.height = c.height;
+            for (int m : c.members) candidate.votes.push_back(sheet.index[size_t(m)]);
+            sheet.candidates.push_back(std::move(candidate));
+        }
+    }
+
+    const Votes& votes_;
+    const TransformationSpace& space_;
+    MeanShiftOptions ms_;
+    Sheet sheets_[2];
+};
 
 // The vertex of the sample's face nearest to the sample: where region growing starts.
 int seed_vertex(const Mesh& mesh, const SurfaceSignature& s) {
@@ -630,7 +683,8 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     const int max_modes = int(4 * max_verified);
     std::vector<char> active(votes.points.size(), 1);
     auto start = Clock::now();
-    std::vector<Candidate> candidates = cluster(votes, active, space, options, max_modes);
+    Clustering clustering(votes, space, options, max_modes);
+    std::vector<Candidate> candidates = clustering.candidates(active);
     result.clusters = int(candidates.size());
     result.seconds_clustering = seconds_since(start);
 
@@ -656,7 +710,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
             if (members.empty()) continue;
             for (int v : members) active[size_t(v)] = 0;
             auto again = Clock::now();
-            candidates = cluster(votes, active, space, options, max_modes);
+            candidates = clustering.candidates(active);
             const double seconds = seconds_since(again);
             result.seconds_clustering += seconds;
             reclustering += seconds;

@@ -8,17 +8,6 @@ namespace symmetry {
 
 namespace {
 
-// Density at every point, counted up to the cap, to start the ascents from the densest
-// points first.  Each point's count is its own entry: the same at any thread count.
-std::vector<int> densities(const KdTree& tree, const MeanShiftOptions& options) {
-    const KdTree::Points& points = tree.points();
-    std::vector<int> density(size_t(tree.size()));
-#pragma omp parallel for schedule(dynamic, 256)
-    for (int i = 0; i < tree.size(); ++i)
-        density[size_t(i)] = tree.count_within(points.row(i).data(), options.bandwidth, options.density_cap);
-    return density;
-}
-
 // One ascent from a starting point, recorded step by step so that it can be replayed
 // against modes it did not know of when it climbed (see mean_shift()).
 struct Ascent {
@@ -157,14 +146,48 @@ void find_modes(const KdTree& tree, const std::vector<int>& density, const std::
     }
 }
 
+// The density of the points whose `stale` flag is set, counted again.  Each point's count
+// is its own entry: the same at any thread count.
+void count_densities(const KdTree& tree, const MeanShiftOptions& options, const std::vector<char>& stale,
+                     std::vector<int>& density) {
+    const KdTree::Points& points = tree.points();
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int i = 0; i < tree.size(); ++i)
+        if (stale[size_t(i)])
+            density[size_t(i)] = tree.count_within(points.row(i).data(), options.bandwidth, options.density_cap);
+}
+
 }  // namespace
 
+std::vector<int> densities(const KdTree& tree, const MeanShiftOptions& options) {
+    std::vector<int> density(size_t(tree.size()), 0);
+    count_densities(tree, options, std::vector<char>(size_t(tree.size()), 1), density);
+    return density;
+}
+
+std::vector<int> densities_after_removal(const KdTree& tree, const std::vector<int>& before,
+                                         const std::vector<int>& earlier_index, const KdTree::Points& removed,
+                                         const MeanShiftOptions& options) {
+    std::vector<int> density(size_t(tree.size()));
+    for (int i = 0; i < tree.size(); ++i) density[size_t(i)] = before[size_t(earlier_index[size_t(i)])];
+    // Only a point within h of a removed one lost a neighbour; the distance is symmetric,
+    // so the range query around the removed point finds exactly those.
+    std::vector<char> stale(size_t(tree.size()), 0);
+    for (Eigen::Index r = 0; r < removed.rows(); ++r)
+        for (int i : tree.radius_search(removed.row(r).data(), options.bandwidth, false)) stale[size_t(i)] = 1;
+    count_densities(tree, options, stale, density);
+    return density;
+}
+
 std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& options) {
+    return mean_shift(tree, densities(tree, options), options);
+}
+
+std::vector<Cluster> mean_shift(const KdTree& tree, const std::vector<int>& density, const MeanShiftOptions& options) {
     const int n = tree.size();
     const double h = options.bandwidth;
     std::vector<Cluster> clusters;
     if (n == 0) return clusters;
-    const std::vector<int> density = densities(tree, options);
     std::vector<int> order(n);
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return density[a] > density[b]; });

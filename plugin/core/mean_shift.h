@@ -52,4 +52,19 @@ struct MeanShiftOptions {
 /// decreasing order of height; the result is deterministic, and the same at any thread count.
 std::vector<Cluster> mean_shift(const KdTree& tree, const MeanShiftOptions& options);
 
+/// The same, with the densities that order the starting points given (see densities()).
+std::vector<Cluster> mean_shift(const KdTree& tree, const std::vector<int>& density, const MeanShiftOptions& options);
+
+/// The density at every point of the tree: the points within h of it, counted up to
+/// density_cap.  Most of the cost of mean shift on dense votes (a facade's 120 copies).
+std::vector<int> densities(const KdTree& tree, const MeanShiftOptions& options);
+
+/// The densities after some points were removed, without counting every point again:
+/// `tree` holds the points that remain, point i being point earlier_index[i] of the tree
+/// whose densities were `before`; `removed` holds the coordinates of the others.  Only the
+/// points within h of a removed one are counted again, so the result equals densities(tree).
+std::vector<int> densities_after_removal(const KdTree& tree, const std::vector<int>& before,
+                                         const std::vector<int>& earlier_index, const KdTree::Points& removed,
+                                         const MeanShiftOptions& options);
+
 }  // namespace symmetry

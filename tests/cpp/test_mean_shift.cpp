@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 using namespace symmetry;
@@ -141,4 +142,45 @@ TEST(MeanShift, BatchesOfAscentsGiveTheSequentialResult) {
             EXPECT_EQ((batched[k].mode - sequential[k].mode).norm(), 0.0) << "batch " << batch;
         }
     }
+}
+
+// Counting the densities again only around removed points gives what counting every
+// point of the smaller set gives, including counts held at the cap.
+TEST(MeanShift, DensitiesAfterRemovalEqualACountFromScratch) {
+    std::mt19937_64 rng(5);
+    const int dim = 13;
+    std::vector<Eigen::VectorXd> centres;
+    for (double t : {-0.4, 0.0, 0.3}) centres.push_back(Eigen::VectorXd::Constant(dim, t));
+    const KdTree::Points all = planted(dim, centres, 400, 1500, 0.02, rng);
+    MeanShiftOptions options;
+    options.bandwidth = 0.1;
+    options.density_cap = 100;  // below the clusters' counts (400), above what one keeps (80)
+    const KdTree before(all);
+    const std::vector<int> density = densities(before, options);
+    ASSERT_EQ(*std::max_element(density.begin(), density.end()), options.density_cap);
+    // Remove most of one cluster (as a continuous family's votes leave Γ) and some background.
+    std::vector<int> kept;
+    std::vector<int> gone;
+    std::bernoulli_distribution keep_background(0.8);
+    for (int i = 0; i < int(all.rows()); ++i) {
+        const bool in_first_cluster = i < 400 && i % 5 != 0;
+        const bool removed = in_first_cluster || (i >= 1200 && !keep_background(rng));
+        (removed ? gone : kept).push_back(i);
+    }
+    KdTree::Points rest(kept.size(), dim), removed(gone.size(), dim);
+    for (size_t k = 0; k < kept.size(); ++k) rest.row(long(k)) = all.row(kept[k]);
+    for (size_t k = 0; k < gone.size(); ++k) removed.row(long(k)) = all.row(gone[k]);
+    const KdTree after(rest);
+    const std::vector<int> updated = densities_after_removal(after, density, kept, removed, options);
+    const std::vector<int> from_scratch = densities(after, options);
+    EXPECT_EQ(updated, from_scratch);
+    // ...and the removal did change counts, capped ones among them: the test has teeth.
+    int changed = 0, changed_at_cap = 0;
+    for (size_t k = 0; k < kept.size(); ++k)
+        if (updated[k] != density[size_t(kept[k])]) {
+            ++changed;
+            changed_at_cap += density[size_t(kept[k])] == options.density_cap;
+        }
+    EXPECT_GT(changed, 50);
+    EXPECT_GT(changed_at_cap, 50);
 }
