@@ -47,6 +47,7 @@ struct Model {
     std::vector<int> working_vertex;   // per input vertex, the nearest vertex of `working`
     std::unique_ptr<Mesh> smoothed;
     std::vector<int> vertex_of_input;  // row in V of every input vertex
+    MeshRepairs repairs;               // a welded soup, turned faces (input_repair.h)
     double diagonal = 0, total_area = 0;
     double radius = 0;  // the curvature ball's radius r (§2), absolute units
     double noise = 0;   // estimated noise (denoising.h), absolute units
@@ -58,7 +59,10 @@ struct Model {
 
 void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,
                    const std::function<void(int, const char*)>& report, Model& model, DetectionResult& result) {
-    build_mesh(V, F, model.input, model.vertex_of_input);
+    build_mesh(V, F, model.input, model.vertex_of_input, &model.repairs);
+    result.welded_vertices = model.repairs.welded_vertices;
+    result.flipped_faces = model.repairs.flipped_faces;
+    result.orientable = model.repairs.orientable;
     model.diagonal = model.input.bbox.Diag();
     model.center = Eigen::Vector3d(model.input.bbox.Center()[0], model.input.bbox.Center()[1], model.input.bbox.Center()[2]);
     model.total_area = surface_area(model.input);
@@ -820,6 +824,30 @@ DetectedSymmetry report_symmetry(const VerifiedSymmetry& s, const Model& model, 
     return d;
 }
 
+// The rows welded onto another at the same position (input_repair.h) are that vertex in
+// every output: its deviation, its symmetry, its patches.
+void write_to_welded_rows(const Model& model, DetectionResult& result) {
+    const std::vector<int>& same = model.repairs.row_at_same_position;
+    if (model.repairs.welded_vertices == 0) return;
+    std::vector<std::vector<int>> welded_onto(same.size());
+    for (size_t r = 0; r < same.size(); ++r) {
+        if (same[r] == int(r)) continue;
+        welded_onto[size_t(same[r])].push_back(int(r));
+        result.vertex_deviation[r] = result.vertex_deviation[size_t(same[r])];
+        result.vertex_symmetry_id[r] = result.vertex_symmetry_id[size_t(same[r])];
+    }
+    auto widen = [&](std::vector<int>& rows) {
+        const size_t listed = rows.size();
+        for (size_t i = 0; i < listed; ++i)
+            rows.insert(rows.end(), welded_onto[size_t(rows[i])].begin(), welded_onto[size_t(rows[i])].end());
+        std::sort(rows.begin(), rows.end());
+    };
+    for (DetectedSymmetry& d : result.symmetries) {
+        widen(d.source_vertices);
+        widen(d.target_vertices);
+    }
+}
+
 }  // namespace
 
 void DetectionOptions::validate() const {
@@ -943,6 +971,7 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
         }
         result.symmetries.push_back(std::move(d));
     }
+    write_to_welded_rows(model, result);
     report(100, "Done");
     return result;
 }

@@ -101,6 +101,9 @@ struct DetectionResult {
     int verified_candidates = 0;   ///< clusters that went through region growing
     int skipped_members = 0;       ///< clusters skipped as members of a continuous family found before
     int working_vertices = 0;      ///< vertices of the simplified copy analysed; 0 when the input itself was
+    int welded_vertices = 0;       ///< vertices welded onto another at the same position (a triangle soup)
+    int flipped_faces = 0;         ///< faces turned to orient the surface coherently and outward
+    bool orientable = true;        ///< false: some component could not be oriented, and was analysed as it came
     double noise = 0;              ///< estimated vertex noise, fraction of the diagonal
     double smoothing_radius = 0;   ///< presmoothing applied for signatures and growth, fraction of the diagonal
     double curvature_radius = 0;   ///< the radius r used (see min_radius_in_edges), fraction of the diagonal

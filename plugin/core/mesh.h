@@ -28,16 +28,28 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// What build_mesh did to its copy so that the pipeline sees one surface (input_repair.h).
+struct MeshRepairs {
+    /// Per row of V: the row whose vertex stands for it (itself but for welded duplicates).
+    std::vector<int> row_at_same_position;
+    int welded_vertices = 0;  ///< rows of a soup's faces welded onto another at the same position
+    int flipped_faces = 0;    ///< faces turned to orient each component coherently (and outward)
+    bool orientable = true;   ///< false: a component could not be oriented and was left as it was
+};
+
 /// Builds the core mesh from vertex positions (#V by 3) and triangles (#F by 3
 /// indices into V), rejecting what the pipeline cannot handle with an InputError:
 /// no vertices, no faces (a point cloud), non-finite coordinates, indices out of
-/// range.  Degenerate faces (repeated index or zero area) are dropped, as are
-/// vertices no face references, because neither carries surface; if nothing
-/// remains the mesh is rejected.  Face-face and vertex-face adjacency, normals and
-/// the bounding box are computed.  `vertex_of_input` receives, for every vertex
-/// of the result, its row in V, so outputs can be written back to the host mesh.
+/// range.  A triangle soup's vertices at the same position are welded and each
+/// component's faces are oriented coherently (input_repair.h; `repairs` says what was done).  Degenerate
+/// faces (repeated index or zero area) are dropped, as are vertices no face
+/// references, because neither carries surface; if nothing remains the mesh is
+/// rejected.  Face-face and vertex-face adjacency, normals and the bounding box are
+/// computed.  `vertex_of_input` receives, for every vertex of the result, its row in
+/// V, so outputs can be written back to the host mesh (and, through
+/// repairs->row_at_same_position, to the rows welded onto it).
 void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh,
-                std::vector<int>& vertex_of_input);
+                std::vector<int>& vertex_of_input, MeshRepairs* repairs = nullptr);
 
 /// Total surface area of the mesh.
 double surface_area(const Mesh& mesh);

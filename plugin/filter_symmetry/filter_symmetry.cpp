@@ -284,6 +284,8 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["clusters"] = QVariant(r.clusters);
 	out["verified_clusters"] = QVariant(r.verified_candidates);
 	out["working_vertices"] = QVariant(r.working_vertices);
+	out["welded_vertices"] = QVariant(r.welded_vertices);
+	out["flipped_faces"] = QVariant(r.flipped_faces);
 	out["noise"] = QVariant(r.noise);
 	out["smoothing_radius"] = QVariant(r.smoothing_radius);
 	out["curvature_radius_used"] = QVariant(r.curvature_radius);
@@ -356,7 +358,9 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 		       "per symmetry, -1 without layers); stage times seconds_signatures, seconds_pairing, "
 		       "seconds_clustering, seconds_verification; work counts samples, pruned_samples, pairs, clusters, "
 		       "verified_clusters; and what the filter chose from the mesh: working_vertices (vertices of the "
-		       "simplified copy analysed, 0 when the mesh itself was), noise (estimated, fraction of the "
+		       "simplified copy analysed, 0 when the mesh itself was), welded_vertices (vertices of a "
+		       "triangle soup at the same position as another, welded on the filter's copy), flipped_faces (faces "
+		       "turned on that copy to orient each part coherently and outward), noise (estimated, fraction of the "
 		       "diagonal), smoothing_radius (presmoothing of a noisy mesh, 0 if none), curvature_radius_used and "
 		       "pair_sample_count_used.<br><br>"
 		       "See:<br><i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i><br>"
@@ -489,6 +493,19 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 		    int(s.source_vertices.size()), int(s.target_vertices.size()), 100 * s.source_area, 100 * s.rms_error,
 		    100 * s.max_error, s.support, qUtf8Printable(basis));
 	}
+	if (result.welded_vertices > 0)
+		log("The mesh is a triangle soup (most triangles have vertices of their own): the filter welded %d "
+		    "vertices lying at the same position as another on its own copy, the mesh is unchanged (Cleaning "
+		    "and Repairing > Remove Duplicate Vertices welds them in the mesh itself).",
+		    result.welded_vertices);
+	if (result.flipped_faces > 0)
+		log("%d faces were turned against the others around them or inward: the filter oriented each part "
+		    "coherently, closed ones outward, on its own copy, the mesh is unchanged (Normals, Curvatures and "
+		    "Orientation > Re-Orient all faces coherently does this to the mesh itself).",
+		    result.flipped_faces);
+	if (!result.orientable)
+		log("The mesh is not orientable (a Moebius band, or faces folded through non-manifold edges): it was "
+		    "analysed with its faces as they are, and symmetries where the orientation changes may be missed.");
 	if (result.working_vertices > 0)
 		log("The mesh has %d vertices, more than the working resolution (max_working_vertices = %d): it was "
 		    "analysed on a copy simplified to %d vertices, and the patches and deviations are those of the mesh "

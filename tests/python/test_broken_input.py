@@ -1,0 +1,113 @@
+"""Input that files and pipelines often write broken, and that the filter repairs on its own
+copy (plugin/core/input_repair.h): a triangle soup, faces turned both ways, a part turned
+inward.  The planted symmetry is found as on the clean mesh, the mesh itself is unchanged,
+and the outputs say what was repaired.  (Input the filter refuses is in test_filter_api.py.)"""
+import numpy as np
+import pytest
+
+from conftest import FILTER, make_meshset, mirror_symmetric_mesh
+
+RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=500)
+MIRROR_X = np.diag([-1.0, 1, 1])
+
+
+def soup(V, F):
+    """Every triangle with three vertices of its own, as an STL file stores it."""
+    return V[F.reshape(-1)].copy(), np.arange(3 * len(F)).reshape(-1, 3)
+
+
+def turned(F, which):
+    F = F.copy()
+    F[which] = F[which][:, [0, 2, 1]]
+    return F
+
+
+def half_turned(F, seed=0):
+    return np.random.default_rng(seed).random(len(F)) < 0.5
+
+
+def detect(V, F):
+    ms = make_meshset(V, F)
+    result = getattr(ms, FILTER)(**RUN)
+    return ms, result
+
+
+def mirror_error(result, M):
+    """How far the reported reflection nearest to x -> M x is from it (linear part)."""
+    errors = [np.linalg.norm(result["transforms"][16 * k:16 * k + 16].reshape(4, 4)[:3, :3] - M)
+              for k in range(result["symmetry_count"]) if result["is_reflection"][k]]
+    return min(errors, default=np.inf)
+
+
+@pytest.fixture(scope="module")
+def bumpy():
+    return mirror_symmetric_mesh(3)
+
+
+@pytest.fixture(scope="module")
+def clean_run(bumpy):
+    return detect(*bumpy)
+
+
+def test_a_clean_mesh_needs_no_repair(requires_pipeline, clean_run):
+    _, r = clean_run
+    assert r["welded_vertices"] == 0 and r["flipped_faces"] == 0
+    assert mirror_error(r, MIRROR_X) < 0.2
+
+
+def test_a_triangle_soup_is_welded_and_its_mirror_found(requires_pipeline, bumpy, clean_run):
+    V, F = soup(*bumpy)
+    ms, r = detect(V, F)
+    assert r["welded_vertices"] == len(V) - len(bumpy[0])
+    assert r["flipped_faces"] == 0
+    assert mirror_error(r, MIRROR_X) < 0.2
+    # The mesh is the soup it was, and each of its rows carries the outputs of its vertex.
+    m = ms.mesh(0)
+    np.testing.assert_array_equal(m.vertex_matrix(), V)
+    np.testing.assert_array_equal(m.face_matrix(), F)
+    ids = m.vertex_custom_scalar_attribute_array("symmetry_id").astype(int)
+    quality = m.vertex_scalar_array()
+    first_row = {}
+    for row, p in enumerate(map(bytes, np.ascontiguousarray(V))):
+        first = first_row.setdefault(p, row)
+        assert ids[row] == ids[first] and quality[row] == quality[first]
+    assert np.mean(ids >= 0) > 0.5
+    # A patch layer holds faces: its rows include every copy of its vertices.
+    source = ms.mesh(int(r["patch_layer_ids"][0]))
+    assert source.face_number() > 0
+
+
+def test_faces_turned_both_ways_are_oriented_and_the_mirror_found(requires_pipeline, bumpy):
+    V, F = bumpy
+    which = half_turned(F)
+    G = turned(F, which)
+    ms, r = detect(V, G)
+    assert r["flipped_faces"] == int(which.sum())  # a closed surface: all turned outward
+    assert r["welded_vertices"] == 0
+    assert mirror_error(r, MIRROR_X) < 0.2
+    np.testing.assert_array_equal(ms.mesh(0).face_matrix(), G)
+
+
+def test_a_copy_turned_inward_still_mirrors_the_other(requires_pipeline, bumpy):
+    """Two copies of an asymmetric part, x -> -x of each other; the second one's faces all
+    turned inward, and a soup besides."""
+    V, F = bumpy
+    A = V.copy()
+    A[:, 0] += 0.4 * np.maximum(A[:, 1], 0) ** 2 + 3.0  # no longer its own mirror image
+    B = A * np.array([-1.0, 1, 1])                     # the mirror image, faces now inward
+    V2 = np.vstack([A, B])
+    F2 = np.vstack([F, F + len(A)])
+    P, Q = soup(V2, F2)
+    ms, r = detect(P, Q)
+    assert r["flipped_faces"] == len(F)
+    assert mirror_error(r, MIRROR_X) < 0.2
+    np.testing.assert_array_equal(ms.mesh(0).face_matrix(), Q)
+
+
+@pytest.mark.parametrize("name", ("box", "torus", "noisy_both_0.2", "fine_row"))
+def test_the_planted_scenes_need_no_repair(requires_pipeline, name):
+    """The repair leaves a clean mesh exactly as it is: the scenes (and the real models, see
+    test_real_models_detect.py) are analysed as before."""
+    from conftest import scene_detection
+    _, result, _ = scene_detection(name)
+    assert result.raw["welded_vertices"] == 0 and result.raw["flipped_faces"] == 0
