@@ -97,7 +97,12 @@ def _nan_mesh(tmp_path):
     return make_meshset(V, F)
 
 
-@pytest.mark.parametrize("make", [_point_cloud, _empty_mesh, _nan_mesh], ids=["point_cloud", "empty", "nan"])
+def _one_triangle(tmp_path):
+    return make_meshset(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
+
+
+@pytest.mark.parametrize("make", [_point_cloud, _empty_mesh, _nan_mesh, _one_triangle],
+                         ids=["point_cloud", "empty", "nan", "one_triangle"])
 def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
     ms = make(tmp_path)
     before = mesh_snapshot(ms)
@@ -107,6 +112,18 @@ def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
     assert FILTER in message and len(message) > len(FILTER) + 20
     assert "Traceback" not in message and "internal error" not in message
     assert_mesh_unchanged(ms, before)
+
+
+def test_a_mesh_with_nothing_to_pair_says_it_could_not_look(tmp_path):
+    """One flat triangle: every sample is flat, so no pair is formed and no family is large
+    enough to count.  An empty result would read as "no symmetry"; the filter says it could
+    not look, and which parameter to change."""
+    ms = _one_triangle(tmp_path)
+    with pytest.raises(pymeshlab.PyMeshLabException) as error:
+        run(ms)
+    message = str(error.value)
+    assert "No symmetry could be looked for" in message
+    assert "curvature_radius" in message and "min_patch_area" in message
 
 
 BAD_PARAMETERS = {
