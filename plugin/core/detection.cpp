@@ -848,6 +848,19 @@ void write_to_welded_rows(const Model& model, DetectionResult& result) {
     }
 }
 
+// "No symmetry" and "could not look" must not look alike: when pruning left fewer than two
+// samples, no pair was ever formed, and when no flat or spherical region was large enough
+// either, an empty result says nothing about the mesh.  Raised before anything is written.
+void refuse_if_nothing_could_be_paired(const DetectionResult& result, size_t reported) {
+    if (reported > 0 || result.pruned_samples >= 2) return;
+    std::ostringstream s;
+    s << "No symmetry could be looked for: all " << result.samples << " surface samples are flat or umbilic at the "
+      << "curvature radius used (" << 100 * result.curvature_radius << "% of the diagonal) and no flat or spherical "
+      << "region covers min_patch_area, so lower curvature_radius (for curved parts smaller than it) or "
+      << "min_patch_area (for small flat parts).";
+    throw InputError(s.str());
+}
+
 }  // namespace
 
 void DetectionOptions::validate() const {
@@ -876,19 +889,6 @@ void DetectionOptions::validate() const {
             "between 1 and 6 (the search grows exponentially with it)");
     require(basis_tolerance > 0 && basis_tolerance <= 1, "basis_tolerance", basis_tolerance,
             "greater than 0 and at most the bounding-box diagonal");
-}
-
-// "No symmetry" and "could not look" must not look alike: when pruning left fewer than two
-// samples, no pair was ever formed, and when no flat or spherical region was large enough
-// either, an empty result says nothing about the mesh.  Raised before anything is written.
-void refuse_if_nothing_could_be_paired(const DetectionResult& result, size_t reported) {
-    if (reported > 0 || result.pruned_samples >= 2) return;
-    std::ostringstream s;
-    s << "No symmetry could be looked for: all " << result.samples << " surface samples are flat or umbilic at the "
-      << "curvature radius used (" << 100 * result.curvature_radius << "% of the diagonal) and no flat or spherical "
-      << "region covers min_patch_area, so lower curvature_radius (for curved parts smaller than it) or "
-      << "min_patch_area (for small flat parts).";
-    throw InputError(s.str());
 }
 
 DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
