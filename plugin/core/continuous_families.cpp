@@ -330,6 +330,17 @@ std::vector<Transformation> finite_members(const MeshNeighbourhoods& mesh, const
     return members;
 }
 
+// The share of the patch's area (its faces, at their centroids) that T maps within the
+// tolerance of the surface.
+double area_share_mapped(const PatchFaces& faces, const SurfaceQuery& surface, const Transformation& T, double tolerance) {
+    double landed = 0, total = 0;
+    for (size_t i = 0; i < faces.areas.size(); ++i) {
+        total += faces.areas[i];
+        if (surface.closest(T.apply(faces.centroids[i]), tolerance).found) landed += faces.areas[i];
+    }
+    return total > 0 ? landed / total : 0.0;
+}
+
 }  // namespace
 
 FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
@@ -341,13 +352,14 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
     if (members.empty() || family.vertices.empty()) return check;
     // A finite family (an extrusion, a face, a cap) maps part of its patch beyond its own
     // end: only the vertices whose image stays over the patch (within a few edges of one
-    // of its vertices) are tested.  A surface of revolution is tested whole.
+    // of its vertices) are tested.  A surface of revolution is tested whole, and by area.
     const bool clipped = family.kind != ContinuousKind::Rotational;
+    const PatchFaces faces = clipped ? PatchFaces() : patch_faces(mesh, family.vertices);
     KdTree::Points points(Eigen::Index(family.vertices.size()), 3);
     for (size_t i = 0; i < family.vertices.size(); ++i) points.row(Eigen::Index(i)) = mesh.positions[size_t(family.vertices[i])].transpose();
     const KdTree footprint(std::move(points));
     const double reach = 3 * median_edge_length(mesh);
-    double coverage = 1;
+    double coverage = 1, area_coverage = 1;
     int most = -1;
     for (const Transformation& T : members) {
         int tested = 0, landed = 0;
@@ -368,10 +380,12 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
         }
         // Too little left over the patch to tell: the member does not hold.
         const double share = tested >= int(family.vertices.size() / 4) ? double(landed) / double(tested) : 0.0;
+        if (!faces.areas.empty()) area_coverage = std::min(area_coverage, area_share_mapped(faces, surface, T, tolerance));
         coverage = std::min(coverage, share);
         if (landed > most) { most = landed; check.best_member = T; }
     }
     check.coverage = coverage;
+    check.area_coverage = area_coverage;
     for (size_t i = 0; i < best.size(); ++i) check.deviation[i] = std::isfinite(best[i]) ? best[i] : 0.0;
     return check;
 }

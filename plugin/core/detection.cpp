@@ -114,31 +114,55 @@ int group_dimension(TransformationGroup group) {
     return 6;
 }
 
-// n' = |P'|: the user's, or the Appendix's bound for patches of min_patch_area (μ measured
-// by pairing a pilot subset with a generator of its own, so the main sequence is the same
-// whatever the pilot drew), lowered to keep μ n' within max_transformation_points.
-int pair_sample_count(const std::vector<SurfaceSignature>& P, const DetectionOptions& options, double radius,
-                      const std::mt19937_64& rng, DetectionResult& result) {
+// The Appendix's n' for `group` (μ measured by pairing a pilot subset with a generator of
+// its own, so the main sequence is the same whatever the pilot drew), lowered to keep μ n'
+// within max_transformation_points.
+struct AutomaticSampleCount {
+    int n_prime = 0;
+    double mu = 0;
+    SampleSize bound;
+};
+
+AutomaticSampleCount automatic_sample_count(const std::vector<SurfaceSignature>& P, const DetectionOptions& options,
+                                            TransformationGroup group, double radius, const std::mt19937_64& rng) {
     const int n = int(P.size());
-    if (options.pair_sample_count > 0) return options.pair_sample_count;
-    result.pair_sample_count_automatic = true;
     std::mt19937_64 pilot_rng = rng;
     pilot_rng.discard(1);
     const int pilot = std::min(n, options.sample_size.pilot_samples);
-    std::vector<SignaturePair> pairs = pair_in_signature_space(P, options.group, radius, options.signature_tolerance,
+    std::vector<SignaturePair> pairs = pair_in_signature_space(P, group, radius, options.signature_tolerance,
                                                                pilot, 2 * radius, pilot_rng, options.pairing);
     size_t points = 0;
     for (const SignaturePair& pair : pairs)
-        points += transformations_from_frames(P[size_t(pair.first)], P[size_t(pair.second)], options.group).size();
-    const double mu = std::max(1.0, double(points) / std::max(1, pilot));
-    result.partners_per_sample = mu;
-    result.pair_sample_size = appendix_sample_size(n, std::max(options.min_patch_area, 1e-4), mu,
-                                                   group_dimension(options.group),
-                                                   options.sample_size.transformation_space_extent /
-                                                       options.cluster_bandwidth,
-                                                   1 - options.sample_size.confidence);
-    const int budget = std::max(1, int(options.max_transformation_points / mu));
-    return std::max(1, std::min(result.pair_sample_size.n_prime, budget));
+        points += transformations_from_frames(P[size_t(pair.first)], P[size_t(pair.second)], group).size();
+    AutomaticSampleCount count;
+    count.mu = std::max(1.0, double(points) / std::max(1, pilot));
+    count.bound = appendix_sample_size(n, std::max(options.min_patch_area, 1e-4), count.mu, group_dimension(group),
+                                       options.sample_size.transformation_space_extent / options.cluster_bandwidth,
+                                       1 - options.sample_size.confidence);
+    const int budget = std::max(1, int(options.max_transformation_points / count.mu));
+    count.n_prime = std::max(1, std::min(count.bound.n_prime, budget));
+    return count;
+}
+
+// n' = |P'|: the user's, or the automatic one.  A restricted group (reflections only,
+// translations only) pairs no more samples than the rigid group would: its points in Γ
+// are those of the rigid group's pairs that are of its kind, so with the same n' (and
+// the same draw of P') it sees every vote of its kind that the rigid group sees, against
+// less background.  Its own bound, in a 3-D Γ of few points per sample, is rarely met
+// and would pair every sample, slower than the full group (issue 11).
+int pair_sample_count(const std::vector<SurfaceSignature>& P, const DetectionOptions& options, double radius,
+                      const std::mt19937_64& rng, DetectionResult& result) {
+    if (options.pair_sample_count > 0) return options.pair_sample_count;
+    result.pair_sample_count_automatic = true;
+    const AutomaticSampleCount own = automatic_sample_count(P, options, options.group, radius, rng);
+    result.partners_per_sample = own.mu;
+    result.pair_sample_size = own.bound;
+    const bool restricted = options.group == TransformationGroup::Reflections ||
+                            options.group == TransformationGroup::Translations;
+    if (!restricted) return own.n_prime;
+    const AutomaticSampleCount rigid = automatic_sample_count(P, options, TransformationGroup::Rigid, radius, rng);
+    result.rigid_pair_sample_count = rigid.n_prime;
+    return std::min(own.n_prime, rigid.n_prime);
 }
 
 // §2.2: the pairs of samples with similar signatures, and their points in Γ.
@@ -455,6 +479,7 @@ public:
             const double max_median = shape ? options_.continuous.max_shape_member_median_deviation
                                             : options_.continuous.max_member_median_deviation;
             findings_.family_holds.push_back(check.coverage >= options_.continuous.min_member_coverage &&
+                                             check.area_coverage >= options_.continuous.min_member_area_coverage &&
                                              check.median_deviation <= max_median * vo_.tolerance);
             findings_.family_checks.push_back(std::move(check));
         }

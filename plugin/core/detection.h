@@ -110,6 +110,9 @@ struct DetectionResult {
     int pairs_sample_count_used = 0;  ///< n' = |P'| paired (§2.2)
     SampleSize pair_sample_size;      ///< for an automatic n': the Appendix's bound behind it
     bool pair_sample_count_automatic = false;
+    /// For a restricted group's automatic n': the n' the rigid group would pair, which caps it
+    /// (see pair_sample_count in detection.cpp); 0 otherwise.
+    int rigid_pair_sample_count = 0;
     double partners_per_sample = 0;  ///< μ: points in Γ per paired sample, measured on a pilot
     double seconds_signatures = 0, seconds_pairing = 0, seconds_clustering = 0, seconds_verification = 0;
 };

@@ -520,6 +520,10 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 		    qUtf8Printable(n.bound_met ? QString("asks for n' = %1").arg(n.n_prime)
 		                               : QString("is not met even by pairing every sample; more samples "
 		                                         "(sample_count) would meet it")));
+		if (result.rigid_pair_sample_count > 0 && result.rigid_pair_sample_count <= result.pairs_sample_count_used)
+			log("A restricted group pairs no more samples than rotations and reflections would (n' = %d): its "
+			    "votes are those of the full group's pairs that are of its kind.",
+			    result.rigid_pair_sample_count);
 	}
 	log("%d symmetries (%d generators) from %d samples (%d after pruning), %d pairs, %d clusters; "
 	    "%.2f s signatures, %.2f s pairing, %.2f s clustering, %.2f s verification",

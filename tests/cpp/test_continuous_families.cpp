@@ -151,3 +151,24 @@ TEST(ContinuousFamilies, FiniteMembersHoldOnlyOnTrueFamilies) {
         else EXPECT_GT(check.coverage, 0.99);
     }
 }
+
+// A small boss on a long plate: a turn about the boss's axis maps nearly every vertex (the
+// boss is finely tessellated, the plate is a few large triangles) but carries most of the
+// area (the plate) off the surface.  The family is judged by both.
+TEST(ContinuousFamilies, ATurnMustMapMostOfThePatchsAreaNotOnlyItsVertices) {
+    const Shape boss = cylinder(0.5, 2.0, 96, 40);
+    const Shape plate = transformed(box(4.3, 0.6, 0.05, 2), Eigen::Matrix3d::Identity(), Eigen::Vector3d(3.7, 0, -0.5));
+    for (bool with_plate : {false, true}) {
+        Analysed a;
+        analyse(with_plate ? merged(boss, plate) : boss, a);
+        ContinuousFamily f;
+        f.kind = ContinuousKind::Rotational;
+        f.direction = Eigen::Vector3d::UnitZ();
+        f.vertices = a.all;
+        const SurfaceQuery surface(a.mesh);
+        const FamilyCheck check = check_members(a.n, surface, f, 0.01 * a.diagonal);
+        EXPECT_GT(check.coverage, 0.99);
+        if (with_plate) EXPECT_LT(check.area_coverage, ContinuousFamilyOptions().min_member_area_coverage);
+        else EXPECT_GT(check.area_coverage, 0.99);
+    }
+}

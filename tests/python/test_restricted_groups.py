@@ -43,3 +43,5 @@ def test_restricted_group_contains_the_full_groups_symmetries_of_its_kind(name, 
                         f"nearest #{m.nearest}: {m.angle_deg:.3f} deg, {100 * m.distance:.3f} %")
     # and what the restricted group reports is right (ground truth, not group 0, decides)
     assert rfig["counts"]["false"] == 0, rfig["reports"]
+    # and it pairs no more samples than group 0: its votes are a subset of group 0's
+    assert restricted.raw["pair_sample_count_used"] <= full.raw["pair_sample_count_used"]
