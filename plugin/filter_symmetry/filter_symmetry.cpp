@@ -53,11 +53,24 @@ HostMesh copyMesh(CMeshO& m)
 		bool valid = true;
 		for (int c = 0; c < 3; ++c) {
 			const CVertexO* v = f.cV(c);
-			if (v == nullptr || v->IsD()) {
+			if (v == nullptr) {
 				valid = false;
 				break;
 			}
-			row[c] = rowOfVertex[size_t(vcg::tri::Index(m, v))];
+			// A reader can leave a face pointing past the vertex array (MeshLab's OBJ reader
+			// on out-of-range indices, assimp's invalid/malformed.obj): check the index
+			// before touching the vertex, which is not there.
+			const size_t index = size_t(v - m.vert.data());
+			if (v < m.vert.data() || index >= m.vert.size())
+				throw symmetry::InputError(
+					"The mesh has faces that refer to vertices that do not exist (the file is malformed: "
+					"its face indices go past its vertex list); repair the file, or remove those faces in "
+					"the program that wrote it.");
+			if (v->IsD()) {
+				valid = false;
+				break;
+			}
+			row[c] = rowOfVertex[index];
 		}
 		if (valid)
 			faces.push_back(row);

@@ -71,6 +71,37 @@ def _output_prefix(input_path, prefix):
     return prefix
 
 
+def obj_face_index_problem(path):
+    """For an OBJ file whose faces use vertex indices outside its vertex list, a sentence
+    saying so; None otherwise (and for other formats).  MeshLab's OBJ reader leaves such
+    faces pointing past its vertex array, and the process then crashes when it frees the
+    mesh (assimp's invalid/malformed.obj, about one run in two), so the file is refused
+    before pymeshlab reads it."""
+    if not path.lower().endswith(".obj"):
+        return None
+    vertices, faces = 0, []
+    with open(path, errors="replace") as f:
+        for line in f:
+            token = line.split(maxsplit=1)
+            if not token:
+                continue
+            if token[0] == "v":
+                vertices += 1
+            elif token[0] == "f" and len(token) > 1:
+                faces.append((vertices, token[1].split()))
+    for seen, corners in faces:
+        for corner in corners:
+            try:
+                index = int(corner.split("/")[0])
+            except ValueError:
+                return f"cannot read {path}: a face has the vertex reference '{corner}', which is not a number"
+            absolute = seen + index + 1 if index < 0 else index
+            if not 1 <= absolute <= vertices:
+                return (f"cannot read {path}: a face refers to vertex {index}, but the file has {vertices} "
+                        "vertices (the file is malformed; repair it in the program that wrote it)")
+    return None
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m meshlab_symmetry",
                                      description="Detect partial and approximate symmetries in a triangle mesh.")
@@ -86,8 +117,17 @@ def main(argv=None):
         if not os.path.isfile(args.input):
             raise OSError(f"no such file: {args.input}")
         prefix = _output_prefix(args.input, args.output_prefix)
+        problem = obj_face_index_problem(args.input)
+        if problem:
+            raise ValueError(problem)
         ms = pymeshlab.MeshSet()
-        ms.load_new_mesh(os.path.abspath(args.input))
+        try:
+            ms.load_new_mesh(os.path.abspath(args.input))
+        except MemoryError:
+            # pymeshlab's readers reserve what the header says (assimp's OutOfMemory.off
+            # announces 353 billion vertices) and let std::bad_alloc through.
+            raise OSError(f"cannot read {args.input}: the file asks for more memory than there is "
+                          "(its header's vertex or face count is probably wrong)") from None
         mesh_id = ms.current_mesh_id()
         result = getattr(ms, FILTER_NAME)(transformation_group=GROUPS[args.group], random_seed=args.seed,
                                           create_patch_layers=True)
