@@ -876,13 +876,22 @@ void write_to_welded_rows(const Model& model, DetectionResult& result) {
 // "No symmetry" and "could not look" must not look alike: when pruning left fewer than two
 // samples, no pair was ever formed, and when no flat or spherical region was large enough
 // either, an empty result says nothing about the mesh.  Raised before anything is written.
-void refuse_if_nothing_could_be_paired(const DetectionResult& result, size_t reported) {
+void refuse_if_nothing_could_be_paired(const DetectionResult& result, const DetectionOptions& options,
+                                       size_t reported) {
     if (reported > 0 || result.pruned_samples >= 2) return;
     std::ostringstream s;
-    s << "No symmetry could be looked for: all " << result.samples << " surface samples are flat or umbilic at the "
-      << "curvature radius used (" << 100 * result.curvature_radius << "% of the diagonal) and no flat or spherical "
-      << "region covers min_patch_area, so lower curvature_radius (for curved parts smaller than it) or "
-      << "min_patch_area (for small flat parts).";
+    s << "No symmetry could be looked for: " << (result.pruned_samples == 0 ? "all " : "all but one of the ")
+      << result.samples << " surface samples are flat or umbilic at the curvature radius used ("
+      << 100 * result.curvature_radius << "% of the diagonal) and no flat or spherical region covers min_patch_area";
+    // The radius grows beyond curvature_radius to hold min_radius_in_edges edges (or the
+    // noise): on a mesh of a few large triangles (a 12-triangle cube) the ball then sees
+    // the whole model, and no parameter helps but finer triangles.
+    if (result.curvature_radius > 1.01 * options.curvature_radius)
+        s << "; the mesh is too coarse for the curvature radius (its edges are long), so refine it first, e.g. "
+          << "with Filters > Remeshing, Simplification and Reconstruction > Subdivision Surfaces: Midpoint "
+          << "(pymeshlab: meshing_surface_subdivision_midpoint).";
+    else
+        s << ", so lower curvature_radius (for curved parts smaller than it) or min_patch_area (for small flat parts).";
     throw InputError(s.str());
 }
 
@@ -962,7 +971,7 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
         ++families;
     }
     result.seconds_verification += seconds_since(start);
-    refuse_if_nothing_could_be_paired(result, reported.size());
+    refuse_if_nothing_could_be_paired(result, options, reported.size());
 
     // Most significant first: the larger the patch, the more of the model it explains.
     std::vector<size_t> order(reported.size());

@@ -114,16 +114,31 @@ def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
     assert_mesh_unchanged(ms, before)
 
 
+def _could_not_look(ms, **params):
+    with pytest.raises(pymeshlab.PyMeshLabException) as error:
+        getattr(ms, FILTER)(**dict(dict(random_seed=1, create_patch_layers=False), **params))
+    message = str(error.value)
+    assert "No symmetry could be looked for" in message
+    return message
+
+
 def test_a_mesh_with_nothing_to_pair_says_it_could_not_look(tmp_path):
     """One flat triangle: every sample is flat, so no pair is formed and no family is large
     enough to count.  An empty result would read as "no symmetry"; the filter says it could
-    not look, and which parameter to change."""
-    ms = _one_triangle(tmp_path)
-    with pytest.raises(pymeshlab.PyMeshLabException) as error:
-        run(ms)
-    message = str(error.value)
-    assert "No symmetry could be looked for" in message
-    assert "curvature_radius" in message and "min_patch_area" in message
+    not look.  The curvature ball had to grow to hold a few of its edges, so the advice is
+    to refine the mesh, with the filter that does it."""
+    message = _could_not_look(_one_triangle(tmp_path))
+    assert "too coarse" in message and "meshing_surface_subdivision_midpoint" in message
+
+
+def test_a_cube_of_twelve_triangles_is_too_coarse_to_look_at():
+    """A cube as exporters write it (assimp's test files have several): the ball that holds
+    a few edges holds the whole cube, every sample is alike."""
+    V = np.array([[x, y, z] for x in (0.0, 1) for y in (0.0, 1) for z in (0.0, 1)])
+    F = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    message = _could_not_look(make_meshset(V, F))
+    assert "too coarse" in message and "Subdivision Surfaces: Midpoint" in message
 
 
 BAD_PARAMETERS = {
