@@ -71,6 +71,9 @@ def mesh_snapshot(ms):
         "vertex_count": m.vertex_number(),
         "face_count": m.face_number(),
         "vertices": m.vertex_matrix().copy(),
+        "faces": m.face_matrix().copy(),
+        "quality": m.vertex_scalar_array().copy() if m.has_vertex_scalar() else None,
+        "selection": m.vertex_selection_array().copy(),
         "has_symmetry_id": has_vertex_attribute(m, "symmetry_id"),
     }
 
@@ -79,7 +82,8 @@ def assert_mesh_unchanged(ms, snapshot):
     after = mesh_snapshot(ms)
     for key in ("current_id", "mesh_count", "vertex_count", "face_count", "has_symmetry_id"):
         assert after[key] == snapshot[key], key
-    np.testing.assert_array_equal(after["vertices"], snapshot["vertices"])  # NaN equals NaN here
+    for key in ("vertices", "faces", "quality", "selection"):  # NaN equals NaN here
+        np.testing.assert_array_equal(after[key], snapshot[key], err_msg=key)
 
 
 def has_vertex_attribute(mesh, name):

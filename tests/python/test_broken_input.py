@@ -111,3 +111,81 @@ def test_the_planted_scenes_need_no_repair(requires_pipeline, name):
     from conftest import scene_detection
     _, result, _ = scene_detection(name)
     assert result.raw["welded_vertices"] == 0 and result.raw["flipped_faces"] == 0
+
+
+# More of what exporters and scanners write, each on the mirror-symmetric bumpy sphere; the
+# core welds, orients, skips zero-area faces and analyses what remains, so the planted
+# mirror must still be found (the mesh itself, as everywhere, left as it came).
+def with_holes(V, F):
+    keep = np.random.default_rng(2).random(len(F)) > 0.03
+    return V, F[keep]
+
+
+def with_zero_area_faces(V, F):
+    pick = np.random.default_rng(3).choice(len(F), 40, replace=False)
+    repeated_corner = F[pick][:, [0, 0, 1]]
+    return V, np.vstack([F, repeated_corner, F[pick[:10]]])  # and faces given twice
+
+
+def with_duplicate_and_unreferenced_vertices(V, F):
+    rng = np.random.default_rng(4)
+    pick = rng.choice(len(V), 60, replace=False)
+    V2 = np.vstack([V, V[pick], rng.random((25, 3)) * 0.5])  # copies, then 25 no face uses
+    F2 = F.copy()
+    copy_of = {int(v): len(V) + i for i, v in enumerate(pick)}
+    for f in range(0, len(F2), 3):
+        F2[f] = [copy_of.get(int(v), int(v)) for v in F2[f]]
+    return V2, F2
+
+
+def with_non_manifold_fins(V, F):
+    """A third face on 30 edges, its apex just outside the surface: non-manifold edges."""
+    apex = V[F[:30, 0]] * 1.01 + 0.005
+    V2 = np.vstack([V, apex])
+    fins = np.column_stack([F[:30, 0], F[:30, 1], len(V) + np.arange(30)])
+    return V2, np.vstack([F, fins])
+
+
+def with_many_components(V, F):
+    """3000 tiny triangles inside the bounding box besides the surface: thousands of
+    components, 0.03 % of the area."""
+    rng = np.random.default_rng(5)
+    corners = rng.uniform(-1, 1, (3000, 1, 3)) + rng.normal(0, 0.003, (3000, 3, 3))
+    V2 = np.vstack([V, corners.reshape(-1, 3)])
+    return V2, np.vstack([F, len(V) + np.arange(9000).reshape(-1, 3)])
+
+
+def far_from_the_origin(V, F):
+    return V + np.array([1e8, -1e8, 5e7]), F
+
+
+def tiny(V, F):
+    return V * 1e-8, F
+
+
+def huge(V, F):
+    return V * 1e8, F
+
+
+# Known to fail, found by this test: the curvature ball holds at least min_radius_in_edges
+# median edges, and the 9000 edges of the tiny triangles outnumber the sphere's 1920, so the
+# median edge is theirs, the ball shrinks from 6.6 % to 1 % of the diagonal on a sphere whose
+# edges are 4 % long, and it sees single facets.  The median should be the surface's (by
+# area); that changes the radius on every benchmark mesh, so it waits for a benchmark run.
+MANY_COMPONENTS = pytest.param("many_components", marks=pytest.mark.xfail(
+    strict=True, reason="the median edge length is counted per edge, not per area"))
+
+BROKEN = dict(holes=with_holes, zero_area_faces=with_zero_area_faces,
+              duplicate_and_unreferenced_vertices=with_duplicate_and_unreferenced_vertices,
+              non_manifold_fins=with_non_manifold_fins, many_components=with_many_components,
+              far_from_the_origin=far_from_the_origin, tiny=tiny, huge=huge)
+
+
+@pytest.mark.parametrize("name", [MANY_COMPONENTS if n == "many_components" else n for n in BROKEN])
+def test_broken_but_readable_input_still_gives_the_mirror(requires_pipeline, bumpy, name):
+    V, F = BROKEN[name](*bumpy)
+    ms, r = detect(V, F)
+    assert mirror_error(r, MIRROR_X) < 0.2
+    np.testing.assert_array_equal(ms.mesh(0).vertex_matrix(), V)
+    np.testing.assert_array_equal(ms.mesh(0).face_matrix(), F)
+    assert len(ms.mesh(0).vertex_custom_scalar_attribute_array("symmetry_id")) == len(V)
