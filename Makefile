@@ -14,7 +14,7 @@ DEB_PACKAGES := g++ cmake ninja-build python3-venv libeigen3-dev libnanoflann-de
 
 DEMO_MESH := meshes/demo.ply
 
-.PHONY: all setup build demo test test-cpp test-python benchmark clean
+.PHONY: all setup build demo test test-sanitize benchmark clean
 all: build
 
 setup: $(STAMPS)/apt $(STAMPS)/venv third_party/meshlab/.verified
@@ -49,8 +49,25 @@ test: build
 	cd $(BUILD) && ctest --output-on-failure -j2
 	$(PY) -m pytest -q tests/python
 
+# The core, the plugin and the tests again with AddressSanitizer and UndefinedBehaviorSanitizer
+# (issue 10): the C++ tests with the fuzzer, then the pymeshlab tests of broken input and of
+# the filter's interface with the sanitized plugin loaded into pymeshlab.  Python itself is
+# not instrumented, so the sanitizers' runtimes are preloaded and its own leaks not counted.
+SANITIZE_BUILD := $(ROOT)/build-sanitize
+SANITIZER_RUNTIMES = $$(g++ -print-file-name=libasan.so):$$(g++ -print-file-name=libubsan.so)
+SANITIZE_PYTESTS := tests/python/test_broken_input.py tests/python/test_filter_api.py
+test-sanitize: setup
+	@cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYMMETRY_SANITIZE=ON -Wno-dev \
+	  -DPYMESHLAB_DIR="$$($(PY) -c 'import os, pymeshlab; print(os.path.dirname(pymeshlab.__file__))')" > $(SANITIZE_BUILD).configure.log 2>&1 \
+	  || { cat $(SANITIZE_BUILD).configure.log; exit 1; }
+	@cmake --build $(SANITIZE_BUILD)
+	cd $(SANITIZE_BUILD) && UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j2
+	LD_PRELOAD="$(SANITIZER_RUNTIMES)" ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+	  MESHLAB_SYMMETRY_PLUGIN=$(SANITIZE_BUILD)/plugin/filter_symmetry/libfilter_symmetry.so \
+	  $(PY) -m pytest -q -p no:cacheprovider $(SANITIZE_PYTESTS)
+
 benchmark: build
 	$(PY) tests/benchmarks/benchmark.py
 
 clean:
-	rm -rf $(BUILD) $(STAMPS) $(PLUGIN)
+	rm -rf $(BUILD) $(SANITIZE_BUILD) $(STAMPS) $(PLUGIN)

@@ -16,7 +16,10 @@ import os
 import pymeshlab
 
 FILTER_NAME = "compute_partial_symmetries"
-_PLUGIN_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libfilter_symmetry.so")
+# MESHLAB_SYMMETRY_PLUGIN loads another build of the plugin instead (make test-sanitize
+# loads the sanitized one).
+_PLUGIN_FILE = (os.environ.get("MESHLAB_SYMMETRY_PLUGIN")
+                or os.path.join(os.path.dirname(os.path.abspath(__file__)), "libfilter_symmetry.so"))
 
 
 def plugin_path():
