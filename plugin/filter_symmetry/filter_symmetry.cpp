@@ -60,8 +60,7 @@ HostMesh copyMesh(CMeshO& m)
 			// A reader can leave a face pointing past the vertex array (MeshLab's OBJ reader
 			// on out-of-range indices, assimp's invalid/malformed.obj): check the index
 			// before touching the vertex, which is not there.
-			const size_t index = size_t(v - m.vert.data());
-			if (v < m.vert.data() || index >= m.vert.size())
+			if (v < m.vert.data() || v >= m.vert.data() + m.vert.size())
 				throw symmetry::InputError(
 					"The mesh has faces that refer to vertices that do not exist (the file is malformed: "
 					"its face indices go past its vertex list); repair the file, or remove those faces in "
@@ -70,7 +69,7 @@ HostMesh copyMesh(CMeshO& m)
 				valid = false;
 				break;
 			}
-			row[c] = rowOfVertex[index];
+			row[c] = rowOfVertex[size_t(v - m.vert.data())];
 		}
 		if (valid)
 			faces.push_back(row);
