@@ -344,7 +344,7 @@ double area_share_mapped(const PatchFaces& faces, const SurfaceQuery& surface, c
 }  // namespace
 
 FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
-                          double tolerance) {
+                          double tolerance, double edge_length) {
     FamilyCheck check;
     check.deviation.assign(family.vertices.size(), 0.0);
     std::vector<double> best(family.vertices.size(), INFINITY);
@@ -358,7 +358,7 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
     KdTree::Points points(Eigen::Index(family.vertices.size()), 3);
     for (size_t i = 0; i < family.vertices.size(); ++i) points.row(Eigen::Index(i)) = mesh.positions[size_t(family.vertices[i])].transpose();
     const KdTree footprint(std::move(points));
-    const double reach = 3 * median_edge_length(mesh);
+    const double reach = 3 * edge_length;
     double coverage = 1, area_coverage = 1;
     int most = -1;
     for (const Transformation& T : members) {

@@ -153,9 +153,10 @@ struct FamilyCheck {
     std::vector<double> deviation;       ///< per patch vertex: the smallest signed deviation under a member (0: none lands)
 };
 
-/// Applies finite members of the family (see min_member_coverage) to its patch.
+/// Applies finite members of the family (see min_member_coverage) to its patch;
+/// `edge_length` is the surface's median edge (median_edge_length), absolute units.
 FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
-                          double tolerance);
+                          double tolerance, double edge_length);
 
 /// The family's whole patch: grown over the mesh from `seeds` through every vertex around
 /// which some face is tangent to every generating motion (within tangency_degrees), and

@@ -77,7 +77,7 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
     // The ball must hold a few edges, or on a coarse mesh it sees one facet's flatness
     // or a single edge's bend, and a copy tessellated otherwise gets other curvatures.
     model.radius = std::max(options.curvature_radius * model.diagonal,
-                            options.min_radius_in_edges * median_edge_length(neighbourhoods));
+                            options.min_radius_in_edges * median_edge_length(neighbourhoods, options.debris_area_share));
     result.curvature_radius = model.radius / model.diagonal;
     const NoiseEstimate noise = estimate_noise(neighbourhoods, options.denoising);
     result.noise = noise.noise / model.diagonal;
@@ -473,8 +473,9 @@ public:
     /// A family is reported when its finite members hold; a merely slippable patch (a
     /// fillet, a tubular ear) only keeps its members from being reported.
     void check_families() {
+        const double edge_length = median_edge_length(mesh_, options_.debris_area_share);
         for (const ContinuousFamily& family : findings_.families) {
-            FamilyCheck check = check_members(mesh_, surface_, family, vo_.tolerance);
+            FamilyCheck check = check_members(mesh_, surface_, family, vo_.tolerance, edge_length);
             const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
             const double max_median = shape ? options_.continuous.max_shape_member_median_deviation
                                             : options_.continuous.max_member_median_deviation;

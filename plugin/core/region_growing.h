@@ -40,8 +40,9 @@ struct MeshNeighbourhoods {
 };
 MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh);
 
-/// The median length of the mesh's edges.
-double median_edge_length(const MeshNeighbourhoods& mesh);
+/// The median length of the mesh's edges, leaving out those of its debris: the smallest
+/// components that together hold at most debris_area_share of its area (0: every edge).
+double median_edge_length(const MeshNeighbourhoods& mesh, double debris_area_share = 0);
 
 /// Area of the faces whose three corners are all in `vertices` (flagged in `member`).
 /// Visits only the faces around those vertices, so it costs O(|vertices|), not O(F).

@@ -146,7 +146,7 @@ TEST(ContinuousFamilies, FiniteMembersHoldOnlyOnTrueFamilies) {
         f.direction = Eigen::Vector3d::UnitZ();
         f.vertices = a.all;
         const SurfaceQuery surface(a.mesh);
-        FamilyCheck check = check_members(a.n, surface, f, 0.01 * a.diagonal);
+        FamilyCheck check = check_members(a.n, surface, f, 0.01 * a.diagonal, median_edge_length(a.n));
         if (swollen) EXPECT_LT(check.coverage, ContinuousFamilyOptions().min_member_coverage);
         else EXPECT_GT(check.coverage, 0.99);
     }
@@ -166,7 +166,7 @@ TEST(ContinuousFamilies, ATurnMustMapMostOfThePatchsAreaNotOnlyItsVertices) {
         f.direction = Eigen::Vector3d::UnitZ();
         f.vertices = a.all;
         const SurfaceQuery surface(a.mesh);
-        const FamilyCheck check = check_members(a.n, surface, f, 0.01 * a.diagonal);
+        const FamilyCheck check = check_members(a.n, surface, f, 0.01 * a.diagonal, median_edge_length(a.n));
         EXPECT_GT(check.coverage, 0.99);
         if (with_plate) EXPECT_LT(check.area_coverage, ContinuousFamilyOptions().min_member_area_coverage);
         else EXPECT_GT(check.area_coverage, 0.99);

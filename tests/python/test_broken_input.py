@@ -148,7 +148,7 @@ def with_non_manifold_fins(V, F):
 
 def with_many_components(V, F):
     """3000 tiny triangles inside the bounding box besides the surface: thousands of
-    components, 0.03 % of the area."""
+    components, 0.3 % of the area."""
     rng = np.random.default_rng(5)
     corners = rng.uniform(-1, 1, (3000, 1, 3)) + rng.normal(0, 0.003, (3000, 3, 3))
     V2 = np.vstack([V, corners.reshape(-1, 3)])
@@ -167,13 +167,11 @@ def huge(V, F):
     return V * 1e8, F
 
 
-# Known to fail, found by this test: the curvature ball holds at least min_radius_in_edges
-# median edges, and the 9000 edges of the tiny triangles outnumber the sphere's 1920, so the
-# median edge is theirs, the ball shrinks from 6.6 % to 1 % of the diagonal on a sphere whose
-# edges are 4 % long, and it sees single facets.  The median should be the surface's (by
-# area); that changes the radius on every benchmark mesh, so it waits for a benchmark run.
+# Known to fail: with three thousand specks on and around the surface, verification
+# rejects the mirror it accepts without them (the curvature ball is the clean mesh's, see
+# the test below; the cause lies in verification, not yet found).
 MANY_COMPONENTS = pytest.param("many_components", marks=pytest.mark.xfail(
-    strict=True, reason="the median edge length is counted per edge, not per area"))
+    strict=True, reason="verification rejects the mirror among specks on the surface"))
 
 BROKEN = dict(holes=with_holes, zero_area_faces=with_zero_area_faces,
               duplicate_and_unreferenced_vertices=with_duplicate_and_unreferenced_vertices,
@@ -189,3 +187,12 @@ def test_broken_but_readable_input_still_gives_the_mirror(requires_pipeline, bum
     np.testing.assert_array_equal(ms.mesh(0).vertex_matrix(), V)
     np.testing.assert_array_equal(ms.mesh(0).face_matrix(), F)
     assert len(ms.mesh(0).vertex_custom_scalar_attribute_array("symmetry_id")) == len(V)
+
+
+def test_specks_do_not_shrink_the_curvature_ball(requires_pipeline, bumpy, clean_run):
+    """The ball holds min_radius_in_edges of the surface's median edges, not of the specks'
+    (which, counted per edge, would make it a sixth as large and see single facets)."""
+    _, r = detect(*with_many_components(*bumpy))
+    clean = clean_run[1]["curvature_radius_used"]
+    # The specks widen the bounding box a little; the ball's absolute size is the same.
+    assert r["curvature_radius_used"] == pytest.approx(clean, rel=0.1)
