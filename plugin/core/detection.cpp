@@ -375,6 +375,7 @@ public:
         vo_.tolerance = options.verification_tolerance * model.diagonal;
         vo_.min_patch_area = options.min_patch_area * model.total_area;
         vo_.large_patch_area = 0.5 * model.total_area;
+        vo_.debris_area_share = options.debris_area_share;
         if (model.smoothed) vo_.noise = model.noise;
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;

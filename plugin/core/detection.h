@@ -37,8 +37,9 @@ struct DetectionOptions {
     double min_radius_in_edges = 1.5;
     /// Components that together hold at most this share of the area, smallest first, are
     /// debris (scanner specks, stray triangles): their edges do not count in the median
-    /// edge length, fraction of the total area: half the default min_patch_area, so a part
-    /// as small as the smallest patch reported still counts.
+    /// edge length, and verification sweeps none of them into a patch; fraction of the
+    /// total area: half the default min_patch_area, so a part as small as the smallest
+    /// patch reported still counts.
     double debris_area_share = 0.005;
     double umbilic_ratio = 0.75;        ///< γ of §2.1
     double signature_tolerance = 0.05;  ///< range-query radius in Ω (§2.2), dimensionless

@@ -52,28 +52,6 @@ void label_components(MeshNeighbourhoods& n) {
         if (n.faces[f][0] >= 0) n.component_areas[size_t(n.component_of[size_t(n.faces[f][0])])] += n.face_areas[f];
 }
 
-// Debris: the smallest components that together hold at most `share` of the area (scanner
-// specks, stray triangles).  Counted per edge, three thousand specks would outvote a
-// surface of two thousand edges, and a curvature ball sized from their edges would see
-// single facets of the surface.  Flags the components that are not debris.
-std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, double share) {
-    std::vector<char> counted(mesh.component_areas.size(), 1);
-    if (share <= 0 || counted.size() < 2) return counted;
-    std::vector<int> smallest_first(counted.size());
-    std::iota(smallest_first.begin(), smallest_first.end(), 0);
-    std::stable_sort(smallest_first.begin(), smallest_first.end(),
-                     [&](int a, int b) { return mesh.component_areas[size_t(a)] < mesh.component_areas[size_t(b)]; });
-    const double total = std::accumulate(mesh.component_areas.begin(), mesh.component_areas.end(), 0.0);
-    double dropped = 0;
-    for (int c : smallest_first) {
-        if (dropped + mesh.component_areas[size_t(c)] > share * total) break;
-        dropped += mesh.component_areas[size_t(c)];
-        counted[size_t(c)] = 0;
-    }
-    // A mesh of nothing but specks has no surface to prefer: count them all.
-    if (std::none_of(counted.begin(), counted.end(), [](char k) { return k != 0; })) counted.assign(counted.size(), 1);
-    return counted;
-}
 }  // namespace
 
 MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
@@ -116,6 +94,27 @@ MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
     return n;
 }
 
+std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, double share) {
+    std::vector<char> counted(mesh.component_areas.size(), 1);
+    if (share <= 0 || counted.size() < 2) return counted;
+    std::vector<int> smallest_first(counted.size());
+    std::iota(smallest_first.begin(), smallest_first.end(), 0);
+    std::stable_sort(smallest_first.begin(), smallest_first.end(),
+                     [&](int a, int b) { return mesh.component_areas[size_t(a)] < mesh.component_areas[size_t(b)]; });
+    const double total = std::accumulate(mesh.component_areas.begin(), mesh.component_areas.end(), 0.0);
+    double dropped = 0;
+    for (int c : smallest_first) {
+        if (dropped + mesh.component_areas[size_t(c)] > share * total) break;
+        dropped += mesh.component_areas[size_t(c)];
+        counted[size_t(c)] = 0;
+    }
+    // A mesh of nothing but specks has no surface to prefer: count them all.
+    if (std::none_of(counted.begin(), counted.end(), [](char k) { return k != 0; })) counted.assign(counted.size(), 1);
+    return counted;
+}
+
+// Counted per edge, three thousand specks would outvote a surface of two thousand edges,
+// and a curvature ball sized from their edges would see single facets of the surface.
 double median_edge_length(const MeshNeighbourhoods& mesh, double debris_area_share) {
     const std::vector<char> counted = components_beyond_debris(mesh, debris_area_share);
     std::vector<double> lengths;

@@ -40,6 +40,11 @@ struct MeshNeighbourhoods {
 };
 MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh);
 
+/// Flags, per connected component, those that are not debris: debris are the smallest
+/// components that together hold at most `share` of the area (scanner specks, stray
+/// triangles).  Every component is flagged when `share` is 0 or all of them are debris.
+std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, double share);
+
 /// The median length of the mesh's edges, leaving out those of its debris: the smallest
 /// components that together hold at most debris_area_share of its area (0: every edge).
 double median_edge_length(const MeshNeighbourhoods& mesh, double debris_area_share = 0);
