@@ -897,6 +897,12 @@ void refuse_if_nothing_could_be_paired(const DetectionResult& result, const Dete
     throw InputError(s.str());
 }
 
+// A length the host turned from a percentage of the diagonal into an absolute value and
+// back (MeshLab's percentage parameters pass through single precision) may land a few
+// float rounding steps beyond the bound a user typed exactly: 50 % of the diagonal for
+// curvature_radius must be accepted (measured: refused at 50 %, accepted at 49.999 %).
+bool within_fraction(double x, double bound) { return x > 0 && x <= bound * (1 + 1e-6); }
+
 }  // namespace
 
 void DetectionOptions::validate() const {
@@ -906,15 +912,15 @@ void DetectionOptions::validate() const {
     require(pair_sample_count >= 0 && pair_sample_count <= 5000000, "pair_sample_count", pair_sample_count,
             "between 0 (automatic) and 5,000,000");
     require(max_transformation_points >= 1000, "max_transformation_points", max_transformation_points, "at least 1000");
-    require(curvature_radius > 0 && curvature_radius <= 0.5, "curvature_radius", curvature_radius,
+    require(within_fraction(curvature_radius, 0.5), "curvature_radius", curvature_radius,
             "greater than 0 and at most half the bounding-box diagonal");
     require(umbilic_ratio > 0 && umbilic_ratio < 1, "umbilic_ratio", umbilic_ratio, "strictly between 0 and 1");
     require(signature_tolerance > 0 && signature_tolerance <= 10, "signature_tolerance", signature_tolerance,
             "greater than 0 and at most 10");
-    require(cluster_bandwidth > 0 && cluster_bandwidth <= 1, "cluster_bandwidth", cluster_bandwidth,
+    require(within_fraction(cluster_bandwidth, 1), "cluster_bandwidth", cluster_bandwidth,
             "greater than 0 and at most the bounding-box diagonal");
     require(min_cluster_support >= 2, "min_cluster_support", min_cluster_support, "at least 2");
-    require(verification_tolerance > 0 && verification_tolerance <= 0.25, "verification_tolerance",
+    require(within_fraction(verification_tolerance, 0.25), "verification_tolerance",
             verification_tolerance, "greater than 0 and at most a quarter of the bounding-box diagonal");
     require(min_patch_area >= 0 && min_patch_area <= 1, "min_patch_area", min_patch_area,
             "between 0 and 100 percent of the surface area");
@@ -923,7 +929,7 @@ void DetectionOptions::validate() const {
     require(max_symmetries >= 1 && max_symmetries <= 1000, "max_symmetries", max_symmetries, "between 1 and 1000");
     require(basis_loop_length >= 1 && basis_loop_length <= 6, "basis_loop_length", basis_loop_length,
             "between 1 and 6 (the search grows exponentially with it)");
-    require(basis_tolerance > 0 && basis_tolerance <= 1, "basis_tolerance", basis_tolerance,
+    require(within_fraction(basis_tolerance, 1), "basis_tolerance", basis_tolerance,
             "greater than 0 and at most the bounding-box diagonal");
 }
 
