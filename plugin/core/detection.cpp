@@ -51,6 +51,7 @@ struct Model {
     double diagonal = 0, total_area = 0;
     double radius = 0;  // the curvature ball's radius r (§2), absolute units
     double noise = 0;   // estimated noise (denoising.h), absolute units
+    DebrisRule debris;  // which connected components are specks (region_growing.h)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     const Mesh& resolved() const { return working ? *working : input; }
     const Mesh& analysed() const { return smoothed ? *smoothed : resolved(); }
@@ -74,10 +75,12 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
         result.working_vertices = model.working->vn;
     }
     const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.resolved());
+    // A speck is smaller than the great disc of the ball curvature_radius asks for.
+    const double asked_radius = options.curvature_radius * model.diagonal;
+    model.debris = {options.debris_area_share, M_PI * asked_radius * asked_radius};
     // The ball must hold a few edges, or on a coarse mesh it sees one facet's flatness
     // or a single edge's bend, and a copy tessellated otherwise gets other curvatures.
-    model.radius = std::max(options.curvature_radius * model.diagonal,
-                            options.min_radius_in_edges * median_edge_length(neighbourhoods, options.debris_area_share));
+    model.radius = std::max(asked_radius, options.min_radius_in_edges * median_edge_length(neighbourhoods, model.debris));
     result.curvature_radius = model.radius / model.diagonal;
     const NoiseEstimate noise = estimate_noise(neighbourhoods, options.denoising);
     result.noise = noise.noise / model.diagonal;
@@ -375,7 +378,7 @@ public:
         vo_.tolerance = options.verification_tolerance * model.diagonal;
         vo_.min_patch_area = options.min_patch_area * model.total_area;
         vo_.large_patch_area = 0.5 * model.total_area;
-        vo_.debris_area_share = options.debris_area_share;
+        vo_.debris = model.debris;
         if (model.smoothed) vo_.noise = model.noise;
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;
@@ -474,7 +477,7 @@ public:
     /// A family is reported when its finite members hold; a merely slippable patch (a
     /// fillet, a tubular ear) only keeps its members from being reported.
     void check_families() {
-        const double edge_length = median_edge_length(mesh_, options_.debris_area_share);
+        const double edge_length = median_edge_length(mesh_, model_.debris);
         for (const ContinuousFamily& family : findings_.families) {
             FamilyCheck check = check_members(mesh_, surface_, family, vo_.tolerance, edge_length);
             const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;

@@ -35,11 +35,12 @@ struct DetectionOptions {
     double curvature_radius = 0.01;     ///< r of the curvature ball (§2), fraction of the diagonal
     /// r is at least this many median edge lengths, whatever curvature_radius says.
     double min_radius_in_edges = 1.5;
-    /// Components that together hold at most this share of the area, smallest first, are
-    /// debris (scanner specks, stray triangles): their edges do not count in the median
-    /// edge length, and verification sweeps none of them into a patch; fraction of the
-    /// total area: half the default min_patch_area, so a part as small as the smallest
-    /// patch reported still counts.
+    /// Components that together hold at most this share of the area, smallest first, each
+    /// smaller than the great disc of the ball curvature_radius asks for, are debris
+    /// (scanner specks, stray triangles; DebrisRule in region_growing.h): their edges do not
+    /// count in the median edge length, and verification sweeps none of them into a patch.
+    /// Fraction of the total area: half the default min_patch_area, so a part as small as
+    /// the smallest patch reported still counts.
     double debris_area_share = 0.005;
     double umbilic_ratio = 0.75;        ///< γ of §2.1
     double signature_tolerance = 0.05;  ///< range-query radius in Ω (§2.2), dimensionless

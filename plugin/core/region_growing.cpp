@@ -94,9 +94,9 @@ MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
     return n;
 }
 
-std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, double share) {
+std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, const DebrisRule& debris) {
     std::vector<char> counted(mesh.component_areas.size(), 1);
-    if (share <= 0 || counted.size() < 2) return counted;
+    if (debris.area_share <= 0 || counted.size() < 2) return counted;
     std::vector<int> smallest_first(counted.size());
     std::iota(smallest_first.begin(), smallest_first.end(), 0);
     std::stable_sort(smallest_first.begin(), smallest_first.end(),
@@ -104,7 +104,8 @@ std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, doubl
     const double total = std::accumulate(mesh.component_areas.begin(), mesh.component_areas.end(), 0.0);
     double dropped = 0;
     for (int c : smallest_first) {
-        if (dropped + mesh.component_areas[size_t(c)] > share * total) break;
+        const double area = mesh.component_areas[size_t(c)];
+        if (area >= debris.max_component_area || dropped + area > debris.area_share * total) break;
         dropped += mesh.component_areas[size_t(c)];
         counted[size_t(c)] = 0;
     }
@@ -115,8 +116,8 @@ std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, doubl
 
 // Counted per edge, three thousand specks would outvote a surface of two thousand edges,
 // and a curvature ball sized from their edges would see single facets of the surface.
-double median_edge_length(const MeshNeighbourhoods& mesh, double debris_area_share) {
-    const std::vector<char> counted = components_beyond_debris(mesh, debris_area_share);
+double median_edge_length(const MeshNeighbourhoods& mesh, const DebrisRule& debris) {
+    const std::vector<char> counted = components_beyond_debris(mesh, debris);
     std::vector<double> lengths;
     lengths.reserve(mesh.neighbours.size() / 2);
     for (int v = 0; v < mesh.vertex_count(); ++v) {

@@ -40,14 +40,23 @@ struct MeshNeighbourhoods {
 };
 MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh);
 
-/// Flags, per connected component, those that are not debris: debris are the smallest
-/// components that together hold at most `share` of the area (scanner specks, stray
-/// triangles).  Every component is flagged when `share` is 0 or all of them are debris.
-std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, double share);
+/// What counts as debris (scanner specks, stray triangles): the smallest connected
+/// components that together hold at most `area_share` of the area, each of them smaller
+/// than `max_component_area`.  The second bound keeps a part repeated many times (120
+/// window sills of 0.03 % of a facade each) from being taken for debris because its
+/// copies are small; a speck is smaller than anything the curvature ball can see.
+struct DebrisRule {
+    double area_share = 0;               ///< fraction of the mesh's area; 0: nothing is debris
+    double max_component_area = INFINITY; ///< absolute units
+};
 
-/// The median length of the mesh's edges, leaving out those of its debris: the smallest
-/// components that together hold at most debris_area_share of its area (0: every edge).
-double median_edge_length(const MeshNeighbourhoods& mesh, double debris_area_share = 0);
+/// Flags, per connected component, those that are not debris.  Every component is
+/// flagged when all of them would be debris.
+std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, const DebrisRule& debris);
+
+/// The median length of the mesh's edges, leaving out those of its debris (by default,
+/// nothing is debris: every edge).
+double median_edge_length(const MeshNeighbourhoods& mesh, const DebrisRule& debris = {});
 
 /// Area of the faces whose three corners are all in `vertices` (flagged in `member`).
 /// Visits only the faces around those vertices, so it costs O(|vertices|), not O(F).

@@ -187,12 +187,12 @@ Transformation final_fit(const MeshNeighbourhoods& mesh, const SurfaceQuery& sur
 // so each is tried from a few vertices spread over it, and kept, whatever its size, when
 // T carries most of it: "the connected components of the model that are invariant under
 // the transformation" (§4).  Most of it, so that a part that merely touches the surface
-// under T is not taken.  Debris is not swept (VerificationOptions::debris_area_share).
+// under T is not taken.  Debris is not swept (VerificationOptions::debris).
 void sweep_other_components(const MeshNeighbourhoods& mesh, const Transformation& T, RegionGrower& grower,
                             const VerificationOptions& options, std::vector<int>& patch) {
     std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
     std::vector<char> done(mesh.component_areas.size(), 0);
-    const std::vector<char> beyond_debris = components_beyond_debris(mesh, options.debris_area_share);
+    const std::vector<char> beyond_debris = components_beyond_debris(mesh, options.debris);
     for (size_t c = 0; c < done.size(); ++c) done[c] = !beyond_debris[c];
     for (int v : patch) done[size_t(mesh.component_of[size_t(v)])] = 1;
     Transformation fixed = T;

@@ -77,13 +77,12 @@ struct VerificationOptions {
     int component_probes = 8;
     /// ...which joins the patch when T maps at least this fraction of its area,...
     double min_component_share = 0.5;
-    /// ...unless it is debris (components_beyond_debris, region_growing.h: the smallest
-    /// components together holding at most this share of the model's area).  A speck lands
+    /// ...unless it is debris (DebrisRule, region_growing.h).  A speck lands
     /// on some surface under any T once the tolerance exceeds its distance from one, and
     /// three vertices of a speck weigh as much in the patch's deviation as three of the
     /// surface: measured, 176 of 3000 specks swept into a bumpy sphere's exact mirror took
-    /// its systematic deviation from 0 to 0.40 of the tolerance.  Fraction of the area.
-    double debris_area_share = 0;
+    /// its systematic deviation from 0 to 0.40 of the tolerance.  The pipeline sets it.
+    DebrisRule debris;
     IcpOptions icp;
     /// Cells per face of the grid that region growing queries (see SurfaceQuery): measured
     /// on a 40k-face scene, 8 takes verification from 15.2 s to 10.4 s (32: 9.8 s) at 8 bytes

@@ -326,12 +326,34 @@ TEST(MedianEdgeLength, LeavesOutDebrisButNotSmallParts) {
     build_mesh(merged(surface, specks).V, merged(surface, specks).F, littered, map);
     const MeshNeighbourhoods n = mesh_neighbourhoods(littered);
     EXPECT_LT(median_edge_length(n), 0.2 * edge) << "counted per edge, the specks' edges are the median";
-    EXPECT_DOUBLE_EQ(median_edge_length(n, 0.001), edge);
+    EXPECT_DOUBLE_EQ(median_edge_length(n, {0.001}), edge);
 
     const Shape part = transformed(sphere(0.15, 2), Eigen::Matrix3d::Identity(), Eigen::Vector3d(3, 0, 0));
     Mesh with_part;
     build_mesh(merged(surface, part).V, merged(surface, part).F, with_part, map);
     const MeshNeighbourhoods p = mesh_neighbourhoods(with_part);
-    EXPECT_DOUBLE_EQ(median_edge_length(p, 0.001), median_edge_length(p));
+    EXPECT_DOUBLE_EQ(median_edge_length(p, {0.001}), median_edge_length(p));
     EXPECT_NE(median_edge_length(p), edge) << "the part's edges count";
+}
+
+// Fifty copies of a small part hold 2 % of the area together: by their share alone they
+// would be debris at 5 %, but each is larger than the disc of a speck, so they count.
+TEST(MedianEdgeLength, APartRepeatedManyTimesIsNotDebris) {
+    const Shape surface = sphere(1.0, 3);
+    Shape parts;
+    for (int k = 0; k < 50; ++k)
+        parts = k == 0 ? transformed(sphere(0.02, 2), Eigen::Matrix3d::Identity(), Eigen::Vector3d(2, 0, 0))
+                       : merged(parts, transformed(sphere(0.02, 2), Eigen::Matrix3d::Identity(),
+                                                   Eigen::Vector3d(2 + 0.1 * k, 0, 0)));
+    Mesh mesh;
+    std::vector<int> map;
+    const Shape scene = merged(surface, parts);
+    build_mesh(scene.V, scene.F, mesh, map);
+    const MeshNeighbourhoods n = mesh_neighbourhoods(mesh);
+    const double part_area = 4 * M_PI * 0.02 * 0.02;
+    const std::vector<char> by_share = components_beyond_debris(n, {0.05});
+    const std::vector<char> by_size = components_beyond_debris(n, {0.05, 0.5 * part_area});
+    EXPECT_EQ(std::count(by_share.begin(), by_share.end(), 0), 50) << "by their share alone, all fifty are debris";
+    EXPECT_EQ(std::count(by_size.begin(), by_size.end(), 0), 0) << "each is larger than a speck";
+    EXPECT_DOUBLE_EQ(median_edge_length(n, {0.05, 0.5 * part_area}), median_edge_length(n));
 }
