@@ -19,7 +19,11 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
         throw InputError("The mesh is empty: it has no vertices.");
     if (F.rows() == 0)
         throw InputError("The mesh has no faces: symmetry detection needs a triangle mesh, not a point cloud. "
-                         "Reconstruct a surface first (e.g. Screened Poisson or Ball Pivoting).");
+                         "Reconstruct a surface first with Filters > Remeshing, Simplification and Reconstruction > "
+                         "Surface Reconstruction: Screened Poisson (pymeshlab: "
+                         "generate_surface_reconstruction_screened_poisson; a cloud without normals needs "
+                         "Filters > Normals, Curvatures and Orientation > Compute normals for point sets, "
+                         "compute_normal_for_point_clouds, first) or Surface Reconstruction: Ball Pivoting.");
     if (!V.allFinite())
         throw InputError("The mesh has vertices with NaN or infinite coordinates; remove them first "
                          "(Cleaning and Repairing > Remove Unreferenced/Duplicated Vertices after fixing them).");

@@ -394,7 +394,10 @@ FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction*) cons
 
 int FilterSymmetryPlugin::getPreConditions(const QAction*) const
 {
-	return MeshModel::MM_FACENUMBER;
+	// No MM_FACENUMBER: with it, MeshLab greys the entry out on a point cloud and pymeshlab
+	// answers "Current mesh does not have Any Faces."; without it, the core refuses a point
+	// cloud with a sentence naming the reconstruction filters that make it a surface.
+	return MeshModel::MM_NONE;
 }
 
 int FilterSymmetryPlugin::postCondition(const QAction*) const

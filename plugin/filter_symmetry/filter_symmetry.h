@@ -29,7 +29,7 @@ public:
 	FilterClass getClass(const QAction* action) const override;
 	/// SINGLE_MESH: the current mesh is the input.
 	FilterArity filterArity(const QAction* action) const override;
-	/// A triangle mesh: MM_FACENUMBER.
+	/// None: the core itself refuses what it cannot analyse, saying what to do (a point cloud).
 	int getPreConditions(const QAction* action) const override;
 	/// Vertex quality and colour; new layers are added but never modified afterwards.
 	int postCondition(const QAction* action) const override;

@@ -81,6 +81,14 @@ def _point_cloud(tmp_path):
     return make_meshset(np.random.default_rng(0).random((50, 3)))
 
 
+def _point_cloud_with_normals(tmp_path):
+    """Points on a sphere with their normals, as a scanner writes them."""
+    V = sphere(2)[0]
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, v_normals_matrix=V / np.linalg.norm(V, axis=1, keepdims=True)))
+    return ms
+
+
 def _empty_mesh(tmp_path):
     path = tmp_path / "empty.ply"
     path.write_text("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
@@ -101,8 +109,8 @@ def _one_triangle(tmp_path):
     return make_meshset(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
 
 
-@pytest.mark.parametrize("make", [_point_cloud, _empty_mesh, _nan_mesh, _one_triangle],
-                         ids=["point_cloud", "empty", "nan", "one_triangle"])
+@pytest.mark.parametrize("make", [_point_cloud, _point_cloud_with_normals, _empty_mesh, _nan_mesh, _one_triangle],
+                         ids=["point_cloud", "point_cloud_with_normals", "empty", "nan", "one_triangle"])
 def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
     ms = make(tmp_path)
     before = mesh_snapshot(ms)
@@ -112,6 +120,18 @@ def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
     assert FILTER in message and len(message) > len(FILTER) + 20
     assert "Traceback" not in message and "internal error" not in message
     assert_mesh_unchanged(ms, before)
+
+
+@pytest.mark.parametrize("make", [_point_cloud, _point_cloud_with_normals], ids=["without_normals", "with_normals"])
+def test_a_point_cloud_is_told_how_to_make_a_surface(make, tmp_path):
+    """The sentence names the reconstruction filters, in MeshLab's menu and as pymeshlab calls
+    them, and those names exist in this pymeshlab."""
+    with pytest.raises(pymeshlab.PyMeshLabException) as error:
+        run(make(tmp_path))
+    message = str(error.value)
+    assert "point cloud" in message and "Screened Poisson" in message
+    for name in ("generate_surface_reconstruction_screened_poisson", "compute_normal_for_point_clouds"):
+        assert name in message and hasattr(pymeshlab.MeshSet, name)
 
 
 def _could_not_look(ms):
