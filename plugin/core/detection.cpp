@@ -925,8 +925,9 @@ void DetectionOptions::validate() const {
     require(min_cluster_support >= 2, "min_cluster_support", min_cluster_support, "at least 2");
     require(within_fraction(verification_tolerance, 0.25), "verification_tolerance",
             verification_tolerance, "greater than 0 and at most a quarter of the bounding-box diagonal");
-    require(min_patch_area >= 0 && min_patch_area <= 1, "min_patch_area", min_patch_area,
-            "between 0 and 100 percent of the surface area");
+    // In percent, as MeshLab's dialog and pymeshlab take it (the option itself is a fraction).
+    require(min_patch_area >= 0 && min_patch_area <= 1, "min_patch_area (percent of the surface area)",
+            100 * min_patch_area, "between 0 and 100");
     require(working.max_vertices == 0 || working.max_vertices >= 1000, "max_working_vertices", working.max_vertices,
             "0 (never simplify) or at least 1000");
     require(max_symmetries >= 1 && max_symmetries <= 1000, "max_symmetries", max_symmetries, "between 1 and 1000");

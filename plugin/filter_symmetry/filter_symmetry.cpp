@@ -180,7 +180,8 @@ CMeshO patchMesh(const HostMesh& h, const std::vector<int>& rows)
 
 // What a reported symmetry is, in words: a continuous family with its axis, or the kind of
 // the discrete transformation (a rotation whose axis it also slides along is a screw, a
-// mirror that also slides along its plane a glide reflection).  `diagonal` sets the
+// mirror that also slides along its plane a glide reflection, a mirror composed with a turn
+// about its normal a rotoreflection).  `diagonal` sets the
 // lengths below which a slide is none.
 QString kindLabel(const symmetry::DetectedSymmetry& s, double diagonal)
 {
@@ -211,8 +212,13 @@ QString kindLabel(const symmetry::DetectedSymmetry& s, double diagonal)
 		Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(0.5 * (L + L.transpose()));
 		const Eigen::Vector3d n = e.eigenvectors().col(0);
 		const Eigen::Vector3d slide = t.translation - n * n.dot(t.translation);
-		return (L * L - Eigen::Matrix3d::Identity()).norm() < 1e-3 && slide.norm() > slide_floor ? "glide reflection"
-		                                                                                           : "reflection";
+		if ((L * L - Eigen::Matrix3d::Identity()).norm() >= 1e-3) {
+			// Not an involution: a mirror composed with a turn about its normal.  -L is a
+			// proper rotation by 180 degrees plus that turn.
+			const double turn = 180 - Eigen::AngleAxisd(Eigen::Matrix3d(-L)).angle() * 180 / M_PI;
+			return QString("rotoreflection (mirror and turn by %1 degrees)").arg(std::abs(turn), 0, 'f', 1);
+		}
+		return slide.norm() > slide_floor ? "glide reflection" : "reflection";
 	}
 	if ((L - Eigen::Matrix3d::Identity()).norm() < 1e-6)
 		return "translation";

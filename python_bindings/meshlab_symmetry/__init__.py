@@ -9,7 +9,8 @@ binds its filter as a ``pymeshlab.MeshSet`` method, so that::
     ms.load_new_mesh("model.ply")
     out = ms.compute_partial_symmetries()
 
-works like any built-in filter.
+works like any built-in filter.  ``meshlab_symmetry.detect("model.ply")`` does the same in
+one call on a file, a pymeshlab.Mesh or arrays, and returns a SymmetryResult.
 """
 import os
 
@@ -39,5 +40,9 @@ def _load_plugin():
 _load_plugin()
 
 from .symmetry_graph import detect_symmetries, symmetry_graph, to_json  # noqa: E402
+from .geometry import Axis, Plane  # noqa: E402
+from .result import Symmetry, SymmetryResult  # noqa: E402
+from .api import detect  # noqa: E402
 
-__all__ = ["FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json"]
+__all__ = ["FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json",
+           "detect", "SymmetryResult", "Symmetry", "Plane", "Axis"]

@@ -1,12 +1,22 @@
 """Command line: detect partial symmetries in a mesh file.
 
+    meshlab-symmetry detect INPUT -o OUTDIR [--sample-count N ...every parameter of detect]
+
+writes into OUTDIR <stem>.symmetry.ply (the input with per-vertex quality = signed
+deviation from symmetry and its colour ramp), <stem>.symmetry_<k>_source.ply and
+<stem>.symmetry_<k>_target.ply (the patches of symmetry k) and symmetries.json
+(SymmetryResult.to_json), and prints a table of the symmetries.
+
+The older form, which `make demo` uses, stays as it was:
+
     python -m meshlab_symmetry INPUT [--output-prefix P]
         [--group rigid|similarity|reflections|translations] [--seed N]
 
-Writes <P>.symmetry.ply (the input with per-vertex quality = signed deviation from
-symmetry and its colour ramp) and <P>.symmetry.json (the symmetry graph), where P is
-the input path without its extension unless --output-prefix is given (a directory
-there means <directory>/<input stem>), and prints what was found.
+Writes <P>.symmetry.ply and <P>.symmetry.json (the symmetry graph), where P is the input
+path without its extension unless --output-prefix is given (a directory there means
+<directory>/<input stem>), and prints what was found.
+
+Either form reports an error as one line on stderr and exits non-zero.
 """
 import argparse
 import os
@@ -15,10 +25,11 @@ import sys
 import pymeshlab
 
 from . import FILTER_NAME
-from .symmetry_graph import symmetry_graph, to_json
+from .api import GROUPS, PARAMETERS, _detect_in_meshset, load_mesh_file, obj_face_index_problem  # noqa: F401
+from .symmetry_graph import _mesh_ids, symmetry_graph, to_json
 
-# Index of the filter's transformation_group enum (public API).
-GROUPS = {"rigid": 0, "similarity": 1, "reflections": 2, "translations": 3}
+#: the console script's name, which begins its error lines
+PROG = "meshlab-symmetry"
 
 
 def _kind(edge):
@@ -38,7 +49,9 @@ def _word(letters):
     return " ".join(f"{'+' if w > 0 else '-'}g{abs(w) - 1}" for w in letters) or "-"
 
 
-def _table(result, graph):
+def _table(result, graph, kinds=None):
+    """The table of symmetries; ``kinds`` (one per symmetry, the words of
+    SymmetryResult) replaces the coarser words of _kind."""
     nodes = graph["nodes"]
     lines = [f"{graph['symmetry_count']} symmetries, {len(graph['generators'])} generators, "
              f"{len(nodes)} patches"]
@@ -51,7 +64,8 @@ def _table(result, graph):
             if len(patches) > 24:
                 patches = f"p{s['id']}({s['vertex_count']}) -> p{t['id']}({t['vertex_count']})"
             basis = "generator" if e["is_generator"] else _word(e["word"])
-            lines.append(f"{e['symmetry']:>3}  {_kind(e):<20} {patches:<24} {e['scale']:>7.4f} "
+            kind = kinds[e["symmetry"]] if kinds else _kind(e)
+            lines.append(f"{e['symmetry']:>3}  {kind:<20} {patches:<24} {e['scale']:>7.4f} "
                          f"{100 * e['rms_error']:>9.3f} {100 * s['area_fraction']:>7.2f} {e['support']:>7}  {basis}")
     times = [(name, float(result.get(f"seconds_{name}", 0.0)))
              for name in ("signatures", "pairing", "clustering", "verification")]
@@ -71,40 +85,25 @@ def _output_prefix(input_path, prefix):
     return prefix
 
 
-def obj_face_index_problem(path):
-    """For an OBJ file whose faces use vertex indices outside its vertex list, a sentence
-    saying so; None otherwise (and for other formats).  MeshLab's OBJ reader leaves such
-    faces pointing past its vertex array, and the process then crashes when it frees the
-    mesh (assimp's invalid/malformed.obj, about one run in two), so the file is refused
-    before pymeshlab reads it."""
-    if not path.lower().endswith(".obj"):
-        return None
-    vertices, faces = 0, []
-    with open(path, errors="replace") as f:
-        for line in f:
-            token = line.split(maxsplit=1)
-            if not token:
-                continue
-            if token[0] == "v":
-                vertices += 1
-            elif token[0] == "f" and len(token) > 1:
-                faces.append((vertices, token[1].split()))
-    for seen, corners in faces:
-        for corner in corners:
-            try:
-                index = int(corner.split("/")[0])
-            except ValueError:
-                return f"cannot read {path}: a face has the vertex reference '{corner}', which is not a number"
-            absolute = seen + index + 1 if index < 0 else index
-            if not 1 <= absolute <= vertices:
-                return (f"cannot read {path}: a face refers to vertex {index}, but the file has {vertices} "
-                        "vertices (the file is malformed; repair it in the program that wrote it)")
-    return None
+def _error_message(error):
+    """The exception's sentence on one line, without pymeshlab's "Failed to apply filter" preamble."""
+    message = " ".join(line.strip() for line in str(error).splitlines() if line.strip())
+    return message.split("Details:", 1)[-1].strip()
 
 
 def main(argv=None):
+    """`meshlab-symmetry detect ...` when the first argument is `detect`, else the older form."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "detect":
+        return _detect_command(argv[1:])
+    return _prefix_command(argv)
+
+
+def _prefix_command(argv):
     parser = argparse.ArgumentParser(prog="python -m meshlab_symmetry",
-                                     description="Detect partial and approximate symmetries in a triangle mesh.")
+                                     description="Detect partial and approximate symmetries in a triangle mesh. "
+                                                 "`meshlab-symmetry detect --help` shows the form with every "
+                                                 "parameter.")
     parser.add_argument("input", help="mesh file (any format pymeshlab reads)")
     parser.add_argument("--output-prefix", help="write <P>.symmetry.ply and <P>.symmetry.json "
                                                 "(default: next to the input)")
@@ -114,20 +113,9 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     try:
-        if not os.path.isfile(args.input):
-            raise OSError(f"no such file: {args.input}")
         prefix = _output_prefix(args.input, args.output_prefix)
-        problem = obj_face_index_problem(args.input)
-        if problem:
-            raise ValueError(problem)
         ms = pymeshlab.MeshSet()
-        try:
-            ms.load_new_mesh(os.path.abspath(args.input))
-        except MemoryError:
-            # pymeshlab's readers reserve what the header says (assimp's OutOfMemory.off
-            # announces 353 billion vertices) and let std::bad_alloc through.
-            raise OSError(f"cannot read {args.input}: the file asks for more memory than there is "
-                          "(its header's vertex or face count is probably wrong)") from None
+        load_mesh_file(ms, args.input)
         mesh_id = ms.current_mesh_id()
         result = getattr(ms, FILTER_NAME)(transformation_group=GROUPS[args.group], random_seed=args.seed,
                                           create_patch_layers=True)
@@ -139,13 +127,88 @@ def main(argv=None):
         with open(prefix + ".symmetry.json", "w") as f:
             f.write(to_json(graph) + "\n")
     except (pymeshlab.PyMeshLabException, OSError, ValueError) as e:
-        message = " ".join(line.strip() for line in str(e).splitlines() if line.strip())
-        message = message.split("Details:", 1)[-1].strip()  # drop pymeshlab's "Failed to apply filter"
-        print(f"meshlab_symmetry: error: {message}", file=sys.stderr)
+        print(f"meshlab_symmetry: error: {_error_message(e)}", file=sys.stderr)
         return 1
     print(_table(result, graph))
     print(f"wrote {prefix}.symmetry.ply and {prefix}.symmetry.json")
     return 0
+
+
+class _OneLineParser(argparse.ArgumentParser):
+    """Reports a usage error as the one line every other error is (argparse prints the
+    usage first)."""
+
+    def error(self, message):
+        print(f"{PROG}: error: {message}", file=sys.stderr)
+        sys.exit(2)
+
+
+def _detect_parser():
+    parser = _OneLineParser(
+        prog=f"{PROG} detect",
+        description="Detect partial and approximate symmetries in a triangle mesh (Mitra, Guibas, Pauly 2006). "
+                    "Writes into OUTDIR <stem>.symmetry.ply (the mesh with per-vertex quality = signed deviation "
+                    "from symmetry, as a fraction of the diagonal, and its colour ramp), "
+                    "<stem>.symmetry_<k>_source.ply and <stem>.symmetry_<k>_target.ply (the patches of "
+                    "symmetry k) and symmetries.json, and prints a table of the symmetries.")
+    parser.add_argument("input", help="mesh file (any format pymeshlab reads)")
+    parser.add_argument("-o", "--output-dir", required=True, metavar="OUTDIR",
+                        help="directory the files are written to (made if missing)")
+    for p in PARAMETERS:
+        flag = "--" + p.name.replace("_", "-")
+        text = f"{p.meaning} ({p.unit}; default: %(default)s)"
+        if p.convert == "group":
+            parser.add_argument(flag, choices=list(GROUPS), default="rigid",
+                                help=f"{p.meaning} (a name; default: %(default)s)")
+        elif isinstance(p.default, bool):
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=p.default, help=text)
+        else:
+            metavar = "N" if isinstance(p.default, int) else "FRACTION" if p.unit.startswith("fraction") else "X"
+            parser.add_argument(flag, type=type(p.default), default=p.default, metavar=metavar, help=text)
+    return parser
+
+
+def _detect_command(argv):
+    parser = _detect_parser()
+    args = parser.parse_args(argv)
+    parameters = {p.name: getattr(args, p.name) for p in PARAMETERS}
+    parameters["transformation_group"] = GROUPS[args.transformation_group]
+    try:
+        ms = pymeshlab.MeshSet()
+        load_mesh_file(ms, args.input)
+        mesh_id = ms.current_mesh_id()
+        result = _detect_in_meshset(ms, parameters)
+        written = _write_outputs(ms, mesh_id, result, args.input, args.output_dir)
+    except (pymeshlab.PyMeshLabException, OSError, ValueError, RuntimeError) as e:
+        print(f"{PROG}: error: {_error_message(e)}", file=sys.stderr)
+        return 1
+    except MemoryError:
+        print(f"{PROG}: error: the analysis ran out of memory; lower --sample-count, --pair-sample-count or "
+              "--max-working-vertices", file=sys.stderr)
+        return 1
+    print(_table({**result.timings, **result.work}, result.graph, [s.kind for s in result.symmetries]))
+    print(f"wrote {len(written)} files to {args.output_dir}")
+    return 0
+
+
+def _write_outputs(ms, mesh_id, result, input_path, output_dir):
+    """Writes the files of `meshlab-symmetry detect` and returns their paths."""
+    stem = os.path.splitext(os.path.basename(input_path))[0]
+    os.makedirs(output_dir, exist_ok=True)
+    written = []
+    for layer in _mesh_ids(ms):
+        ms.set_current_mesh(layer)
+        if layer == mesh_id:
+            path = os.path.join(output_dir, f"{stem}.symmetry.ply")
+            ms.save_current_mesh(path, save_vertex_quality=True, save_vertex_color=True)
+        else:  # symmetry_<k>_source or symmetry_<k>_target
+            path = os.path.join(output_dir, f"{stem}.{ms.current_mesh().label()}.ply")
+            ms.save_current_mesh(path)
+        written.append(path)
+    path = os.path.join(output_dir, "symmetries.json")
+    with open(path, "w") as f:
+        f.write(result.to_json() + "\n")
+    return written + [path]
 
 
 if __name__ == "__main__":
