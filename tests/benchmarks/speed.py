@@ -17,7 +17,8 @@ The meshes (built once into tests/data/speed/, git-ignored):
   decimated back to 320,000 faces (160,002 vertices), as in the issue's measurement;
 * facade_120: a generated facade: a wall slab with 10 x 12 window frames, each frame an exact
   copy built from boxes (about 150,000 vertices): many repeated parts, CAD-like;
-* armadillo_2m (with --large): the same scan at 2,000,000 faces.
+* armadillo_2m and armadillo_3m (with --large): the same scan at 2,000,000 and 3,000,000
+  faces (the largest inputs issue 10 asks the filter to finish, with their memory).
 
 It measures and does not assert: the exit status is 0 unless a run fails.
 """
@@ -97,15 +98,19 @@ MESHES = {
     "armadillo_160k": lambda path: subdivided_scan("armadillo", 320_000, path),
     "facade_120": lambda path: facade(path=path),
 }
-LARGE = {"armadillo_2m": lambda path: subdivided_scan("armadillo", 2_000_000, path)}
+LARGE = {"armadillo_2m": lambda path: subdivided_scan("armadillo", 2_000_000, path),
+         "armadillo_3m": lambda path: subdivided_scan("armadillo", 3_000_000, path)}
 
 
-def mesh_path(name: str, build) -> str:
+def mesh_path(name: str) -> str:
+    """The benchmark mesh's file, built first if missing.  It is built in a child process:
+    on Linux a child's peak RSS counts that of the process it was forked from, so a parent
+    that had held a 6-million-face subdivision would report 6.4 GB for every later run."""
     path = os.path.join(DATA, name + ".ply")
     if not os.path.exists(path):
         os.makedirs(DATA, exist_ok=True)
         print(f"building {name} ...", file=sys.stderr, flush=True)
-        build(path + ".tmp.ply")
+        subprocess.run([sys.executable, os.path.abspath(__file__), "--build", name, path + ".tmp.ply"], check=True)
         os.replace(path + ".tmp.ply", path)
     return path
 
@@ -155,13 +160,17 @@ def run_child(which: str, path: str, threads: int):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--only", nargs="+", metavar="NAME", help="only these meshes")
-    ap.add_argument("--large", action="store_true", help="also the 2-million-face mesh")
+    ap.add_argument("--large", action="store_true", help="also the 2- and 3-million-face meshes")
     ap.add_argument("--threads", type=int, default=0, help="OMP_NUM_THREADS of the runs (0: default)")
     ap.add_argument("--json", help="write the figures to this file")
     ap.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
+    ap.add_argument("--build", nargs=2, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
         return child(*args.child)
+    if args.build:
+        name, path = args.build
+        return dict(MESHES, **LARGE)[name](path)
     meshes = dict(MESHES, **(LARGE if args.large else {}))
     names = [n for n in meshes if not args.only or n in args.only]
 
@@ -171,7 +180,7 @@ def main(argv=None):
     print("-" * len(head))
     rows = []
     for name in names:
-        path = mesh_path(name, meshes[name])
+        path = mesh_path(name)
         yard = run_child("yardstick", path, args.threads)
         run = run_child("filter", path, args.threads)
         other = run["seconds"] - sum(run[s] for s in STAGES)
