@@ -146,6 +146,18 @@ def with_non_manifold_fins(V, F):
     return V2, np.vstack([F, fins])
 
 
+def with_non_manifold_vertex(V, F):
+    """A small flap of two triangles hanging from one surface vertex, touching the surface
+    nowhere else: that vertex is non-manifold (two fans meet at it)."""
+    tip = V[0]
+    outward = tip / np.linalg.norm(tip)
+    side = np.cross(outward, [0.0, 0.0, 1.0] if abs(outward[2]) < 0.9 else [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    flap = np.array([tip + 0.05 * outward + 0.03 * side, tip + 0.05 * outward - 0.03 * side, tip + 0.1 * outward])
+    k = len(V)
+    return np.vstack([V, flap]), np.vstack([F, [[0, k, k + 1], [k, k + 2, k + 1]]])
+
+
 def with_many_components(V, F):
     """3000 tiny triangles inside the bounding box besides the surface: thousands of
     components, 0.3 % of the area."""
@@ -169,7 +181,8 @@ def huge(V, F):
 
 BROKEN = dict(holes=with_holes, zero_area_faces=with_zero_area_faces,
               duplicate_and_unreferenced_vertices=with_duplicate_and_unreferenced_vertices,
-              non_manifold_fins=with_non_manifold_fins, many_components=with_many_components,
+              non_manifold_fins=with_non_manifold_fins, non_manifold_vertex=with_non_manifold_vertex,
+              many_components=with_many_components,
               far_from_the_origin=far_from_the_origin, tiny=tiny, huge=huge)
 
 

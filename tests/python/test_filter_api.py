@@ -108,12 +108,19 @@ def _nan_mesh(tmp_path):
     return make_meshset(V, F)
 
 
+def _infinite_mesh(tmp_path):
+    V, F = sphere(2)
+    V[3, 0] = np.inf
+    return make_meshset(V, F)
+
+
 def _one_triangle(tmp_path):
     return make_meshset(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
 
 
-@pytest.mark.parametrize("make", [_point_cloud, _point_cloud_with_normals, _empty_mesh, _nan_mesh, _one_triangle],
-                         ids=["point_cloud", "point_cloud_with_normals", "empty", "nan", "one_triangle"])
+@pytest.mark.parametrize("make", [_point_cloud, _point_cloud_with_normals, _empty_mesh, _nan_mesh, _infinite_mesh,
+                                  _one_triangle],
+                         ids=["point_cloud", "point_cloud_with_normals", "empty", "nan", "infinite", "one_triangle"])
 def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
     ms = make(tmp_path)
     before = mesh_snapshot(ms)
@@ -384,3 +391,17 @@ def test_a_sphere_is_one_spherical_family_in_the_graph_and_the_table():
     assert edge["continuous_kind"] == "spherical"
     assert np.allclose(edge["axis_point"], [0.3, -0.2, 0.5], atol=0.01)
     assert json.loads(meshlab_symmetry.to_json(graph))["edges"][0]["continuous_kind"] == "spherical"
+
+
+def test_a_plane_is_one_planar_family():
+    """A flat square's symmetries (every slide and turn in it, the mirrors across it) are one
+    planar family with its normal, not a flood of members filling the result slots."""
+    n = 40
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    V = np.c_[x.ravel(), y.ravel(), np.full(n * n, 0.25)]
+    quads = [(i * n + j, i * n + j + 1, (i + 1) * n + j + 1, (i + 1) * n + j) for i in range(n - 1) for j in range(n - 1)]
+    F = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+    result = run(make_meshset(V, F))
+    assert list(np.asarray(result["continuous_kinds"]).reshape(-1)) == [4]
+    axis = np.asarray(result["continuous_axes"]).reshape(-1)
+    assert abs(abs(axis[5]) - 1) < 1e-6 and abs(axis[2] - 0.25) < 1e-6  # normal along z, on the plane z = 0.25
