@@ -42,8 +42,9 @@ build: setup
 	@cmp -s $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN) || \
 	  { cp $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN).tmp && mv -f $(PLUGIN).tmp $(PLUGIN); }
 
+DEMO_OUT := meshes/demo_report
 demo: build
-	$(PY) -m meshlab_symmetry $(DEMO_MESH)
+	$(PY) -m meshlab_symmetry detect $(DEMO_MESH) -o $(DEMO_OUT) --report
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j2

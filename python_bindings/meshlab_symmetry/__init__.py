@@ -44,5 +44,17 @@ from .geometry import Axis, Plane  # noqa: E402
 from .result import Symmetry, SymmetryResult  # noqa: E402
 from .api import detect  # noqa: E402
 
+#: the picture functions of meshlab_symmetry.pictures, importable from the package itself
+_PICTURES = ("deviation_picture", "patches_picture", "transformation_space_picture", "report_html")
+
 __all__ = ["FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json",
-           "detect", "SymmetryResult", "Symmetry", "Plane", "Axis"]
+           "detect", "SymmetryResult", "Symmetry", "Plane", "Axis", *_PICTURES]
+
+
+def __getattr__(name):
+    """The picture functions, imported on first use: matplotlib takes a while to import and
+    only the pictures need it."""
+    if name in _PICTURES:
+        from . import pictures
+        return getattr(pictures, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -5,9 +5,10 @@
 writes into OUTDIR <stem>.symmetry.ply (the input with per-vertex quality = signed
 deviation from symmetry and its colour ramp), <stem>.symmetry_<k>_source.ply and
 <stem>.symmetry_<k>_target.ply (the patches of symmetry k) and symmetries.json
-(SymmetryResult.to_json), and prints a table of the symmetries.
+(SymmetryResult.to_json), and prints a table of the symmetries.  With --report also
+report.html and its pictures (meshlab_symmetry.pictures).
 
-The older form, which `make demo` uses, stays as it was:
+The older form stays as it was:
 
     python -m meshlab_symmetry INPUT [--output-prefix P]
         [--group rigid|similarity|reflections|translations] [--seed N]
@@ -154,6 +155,9 @@ def _detect_parser():
     parser.add_argument("input", help="mesh file (any format pymeshlab reads)")
     parser.add_argument("-o", "--output-dir", required=True, metavar="OUTDIR",
                         help="directory the files are written to (made if missing)")
+    parser.add_argument("--report", action="store_true",
+                        help="also write report.html with pictures of the deviation, the patches and the pairs' "
+                             "reflections (PNG files beside it) and a table of the symmetries")
     for p in PARAMETERS:
         flag = "--" + p.name.replace("_", "-")
         text = f"{p.meaning} ({p.unit}; default: %(default)s)"
@@ -179,6 +183,8 @@ def _detect_command(argv):
         mesh_id = ms.current_mesh_id()
         result = _detect_in_meshset(ms, parameters)
         written = _write_outputs(ms, mesh_id, result, args.input, args.output_dir)
+        if args.report:
+            written += _write_report(args.input, result, args.output_dir)
     except (pymeshlab.PyMeshLabException, OSError, ValueError, RuntimeError) as e:
         print(f"{PROG}: error: {_error_message(e)}", file=sys.stderr)
         return 1
@@ -189,6 +195,13 @@ def _detect_command(argv):
     print(_table({**result.timings, **result.work}, result.graph, [s.kind for s in result.symmetries]))
     print(f"wrote {len(written)} files to {args.output_dir}")
     return 0
+
+
+def _write_report(input_path, result, output_dir):
+    """report.html and its pictures; matplotlib is imported only when a report is asked for."""
+    from .pictures import REPORT_PICTURES, report_html
+    report = report_html(input_path, result, output_dir)
+    return [os.path.join(output_dir, name) for name, _, _ in REPORT_PICTURES] + [report]
 
 
 def _write_outputs(ms, mesh_id, result, input_path, output_dir):
