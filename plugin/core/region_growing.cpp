@@ -106,7 +106,7 @@ std::vector<char> components_beyond_debris(const MeshNeighbourhoods& mesh, const
     for (int c : smallest_first) {
         const double area = mesh.component_areas[size_t(c)];
         if (area >= debris.max_component_area || dropped + area > debris.area_share * total) break;
-        dropped += mesh.component_areas[size_t(c)];
+        dropped += area;
         counted[size_t(c)] = 0;
     }
     // A mesh of nothing but specks has no surface to prefer: count them all.
