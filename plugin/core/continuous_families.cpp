@@ -243,6 +243,36 @@ ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double 
     return family;
 }
 
+ContinuousFamily cylinder_of_sample(const SurfaceSignature& sample, double radius, double flatness) {
+    ContinuousFamily family;
+    const bool first_vanishes = std::abs(sample.kappa1) < std::abs(sample.kappa2);
+    const double vanishing = first_vanishes ? sample.kappa1 : sample.kappa2;
+    const double bending = first_vanishes ? sample.kappa2 : sample.kappa1;
+    if (!(std::abs(vanishing) * radius < flatness && std::abs(bending) * radius >= flatness)) return family;
+    family.kind = ContinuousKind::Rotational;
+    family.slides_along_axis = true;
+    family.direction = first_vanishes ? sample.direction1 : sample.direction2;
+    family.point = sample.position - sample.normal / bending;  // as for a sphere: the outward normal points away from a convex axis
+    family.extent = radius;
+    Motion turn, slide;
+    turn.omega = family.direction;
+    turn.v = -family.direction.cross(family.point);
+    slide.v = family.direction;
+    family.motions = {turn, slide};
+    return family;
+}
+
+bool lies_on_cylinder(const MeshNeighbourhoods& mesh, const ContinuousFamily& family, double tolerance,
+                      const ContinuousFamilyOptions& options) {
+    if (family.vertices.empty()) return false;
+    std::vector<double> radii;
+    radii.reserve(family.vertices.size());
+    for (int v : family.vertices)
+        radii.push_back(family.direction.cross(mesh.positions[size_t(v)] - family.point).norm());
+    const auto [lo, hi] = std::minmax_element(radii.begin(), radii.end());
+    return *hi - *lo <= 2 * options.shape_tolerance * tolerance;
+}
+
 bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
                  const ContinuousFamilyOptions& options) {
     if (a.kind != b.kind || a.kind == ContinuousKind::Discrete) return false;

@@ -140,6 +140,20 @@ bool is_member(const ContinuousFamily& family, const Transformation& T, double t
 /// (slippable_family on the grown patch).
 ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness);
 
+/// The cylinder a sample suggests when one principal curvature vanishes (|κ| r below
+/// `flatness`) and the other does not: its axis runs along the direction of the vanishing
+/// curvature through the centre of the other, p − n/κ; its motions are the turn about the
+/// axis and the slide along it.  Kind Discrete when the sample is not cylinder-like.  A
+/// cone's or any ruled surface's sample suggests a wrong cylinder: grown, refined and
+/// checked (see Verifier::add_cylinders_of_kept_samples) it fails.
+ContinuousFamily cylinder_of_sample(const SurfaceSignature& sample, double radius, double flatness);
+
+/// Whether every vertex of a rotational family's patch lies within shape_tolerance ×
+/// `tolerance` of one cylinder about its axis: slippage alone takes a narrow band of a
+/// cone or of a vase for a cylinder, since a short band slides along the axis nearly.
+bool lies_on_cylinder(const MeshNeighbourhoods& mesh, const ContinuousFamily& family, double tolerance,
+                      const ContinuousFamilyOptions& options);
+
 /// Whether two families are one: same kind, axes within the agreement angle and tolerance.
 bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
                  const ContinuousFamilyOptions& options);

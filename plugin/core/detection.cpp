@@ -185,7 +185,7 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
     // One estimator for the signatures at r and, for the samples pruning keeps, at 2r.
     const CurvatureEstimator curvature(model.analysed());
     for (SurfaceSignature& s : compute_signatures(curvature, samples, radius))
-        (has_distinct_principal_curvatures(s, options.umbilic_ratio, radius) ? votes.P : votes.discarded).push_back(s);
+        (has_distinct_principal_curvatures(s, options.umbilic_ratio, radius, options.flatness) ? votes.P : votes.discarded).push_back(s);
     std::vector<SurfaceSample> kept;
     kept.reserve(votes.P.size());
     for (const SurfaceSignature& s : votes.P) kept.push_back({s.position, s.face});
@@ -453,7 +453,7 @@ public:
         for (const SurfaceSignature& sample : votes_.discarded) {
             const int seed = seed_vertex(model_.analysed(), sample);
             if (covered[size_t(seed)]) continue;
-            ContinuousFamily family = family_of_pruned_sample(sample, model_.radius, kFlatness);
+            ContinuousFamily family = family_of_pruned_sample(sample, model_.radius, options_.flatness);
             family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, options_.continuous);
             covered[size_t(seed)] = 1;
             for (int v : family.vertices) covered[size_t(v)] = 1;
@@ -469,6 +469,30 @@ public:
         }
     }
 
+    /// The cylinders among the kept samples: a thin cylinder on a larger body (a boat's mast)
+    /// has too few pairs for its ridge in Γ to rise above the body's clusters, but each of
+    /// its samples says where its axis is (cylinder_of_sample).  Grown, refined by slippage
+    /// and recorded only if it is a cylinder whose finite members hold: a cone's or a
+    /// saddle's sample suggests a cylinder that is not there, and fails.
+    void add_cylinders_of_kept_samples() {
+        std::vector<char> covered(size_t(mesh_.vertex_count()), 0);
+        for (const auto& flags : family_flags_)
+            for (size_t v = 0; v < covered.size(); ++v) covered[v] |= flags[v];
+        const double edge_length = median_edge_length(mesh_, model_.debris);
+        for (const SurfaceSignature& sample : votes_.P) {
+            const int seed = seed_vertex(model_.analysed(), sample);
+            if (covered[size_t(seed)]) continue;
+            ContinuousFamily family = cylinder_of_sample(sample, model_.radius, options_.flatness);
+            if (family.kind == ContinuousKind::Discrete) continue;
+            covered[size_t(seed)] = 1;
+            std::optional<ContinuousFamily> cylinder = grown_cylinder(std::move(family), seed);
+            if (!cylinder) continue;
+            for (int v : cylinder->vertices) covered[size_t(v)] = 1;
+            if (!holds(check_members(mesh_, surface_, *cylinder, vo_.tolerance, edge_length), *cylinder)) continue;
+            record_family(std::move(*cylinder), 0);
+        }
+    }
+
     /// A discrete symmetry whose patches lie on continuous families but cover some of them
     /// only in part (a box face's strip turned onto the next face, a cylinder shifted along
     /// itself) is a family member composed with another: not reported.  One that maps whole
@@ -480,12 +504,7 @@ public:
         const double edge_length = median_edge_length(mesh_, model_.debris);
         for (const ContinuousFamily& family : findings_.families) {
             FamilyCheck check = check_members(mesh_, surface_, family, vo_.tolerance, edge_length);
-            const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
-            const double max_median = shape ? options_.continuous.max_shape_member_median_deviation
-                                            : options_.continuous.max_member_median_deviation;
-            findings_.family_holds.push_back(check.coverage >= options_.continuous.min_member_coverage &&
-                                             check.area_coverage >= options_.continuous.min_member_area_coverage &&
-                                             check.median_deviation <= max_median * vo_.tolerance);
+            findings_.family_holds.push_back(holds(check, family));
             findings_.family_checks.push_back(std::move(check));
         }
     }
@@ -654,6 +673,37 @@ private:
         family.point += family.direction * (0.5 * (lo + hi));
     }
 
+    // Whether the family's finite members map its patch onto the surface (see
+    // ContinuousFamilyOptions::min_member_coverage and what follows it).
+    bool holds(const FamilyCheck& check, const ContinuousFamily& family) const {
+        const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
+        const double max_median = shape ? options_.continuous.max_shape_member_median_deviation
+                                        : options_.continuous.max_member_median_deviation;
+        return check.coverage >= options_.continuous.min_member_coverage &&
+               check.area_coverage >= options_.continuous.min_member_area_coverage &&
+               check.median_deviation <= max_median * vo_.tolerance;
+    }
+
+    // The suggested cylinder's patch grown from the seed, kept if it is large enough and
+    // slippage finds a cylinder in it too (refined axis), regrown about that axis.
+    std::optional<ContinuousFamily> grown_cylinder(ContinuousFamily family, int seed) {
+        family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, options_.continuous);
+        if (area_of(family.vertices) < vo_.min_patch_area) return std::nullopt;
+        ContinuousFamily refined = slippable_family(mesh_, family.vertices, vo_.tolerance, options_.continuous);
+        if (refined.kind != ContinuousKind::Rotational || !refined.slides_along_axis) return std::nullopt;
+        refined.vertices = grow_family_patch(mesh_, refined, family.vertices, vo_.tolerance, options_.continuous);
+        if (area_of(refined.vertices) < vo_.min_patch_area) return std::nullopt;
+        if (!lies_on_cylinder(mesh_, refined, vo_.tolerance, options_.continuous)) return std::nullopt;
+        return refined;
+    }
+
+    double area_of(const std::vector<int>& vertices) {
+        for (int v : vertices) scratch_[size_t(v)] = 1;
+        const double area = patch_area(mesh_, vertices, scratch_);
+        for (int v : vertices) scratch_[size_t(v)] = 0;
+        return area;
+    }
+
     // A family found twice (two members of one surface of revolution) is one family.
     void record_family(ContinuousFamily family, int support) {
         for (size_t k = 0; k < findings_.families.size(); ++k)
@@ -700,6 +750,7 @@ private:
     Findings findings_;
     std::vector<std::vector<char>> family_flags_;
     std::vector<char> explained_;  // vertices on any found patch, see inside_explained_patches
+    std::vector<char> scratch_ = std::vector<char>(size_t(mesh_.vertex_count()), 0);  // see area_of
     size_t explained_count_ = 0;
     std::vector<Transformation> tried_;
     size_t verified_ = 0;
@@ -750,6 +801,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
             reclustering += seconds;
             i = size_t(-1);  // from the top: what was verified already is skipped as tried
         }
+    verifier.add_cylinders_of_kept_samples();
     verifier.check_families();
     verifier.drop_partial_family_relations();
     result.seconds_verification = seconds_since(start) - reclustering;
@@ -918,6 +970,7 @@ void DetectionOptions::validate() const {
     require(within_fraction(curvature_radius, 0.5), "curvature_radius", curvature_radius,
             "greater than 0 and at most half the bounding-box diagonal");
     require(umbilic_ratio > 0 && umbilic_ratio < 1, "umbilic_ratio", umbilic_ratio, "strictly between 0 and 1");
+    require(flatness > 0 && flatness < 1, "flatness", flatness, "strictly between 0 and 1");
     require(signature_tolerance > 0 && signature_tolerance <= 10, "signature_tolerance", signature_tolerance,
             "greater than 0 and at most 10");
     require(within_fraction(cluster_bandwidth, 1), "cluster_bandwidth", cluster_bandwidth,

@@ -43,6 +43,11 @@ struct DetectionOptions {
     /// the smallest patch reported still counts.
     double debris_area_share = 0.005;
     double umbilic_ratio = 0.75;        ///< γ of §2.1
+    /// A sample is flat, and pruned with the umbilics, when its largest curvature bends the
+    /// surface by less than flatness · r / 2 across the ball of radius r (0.05: 2.5 % of r):
+    /// there both curvatures are at the level of tessellation noise, and so are the
+    /// directions.  The same bound tells a cylinder's vanishing curvature.  Dimensionless.
+    double flatness = 0.05;
     double signature_tolerance = 0.05;  ///< range-query radius in Ω (§2.2), dimensionless
     double cluster_bandwidth = 0.04;    ///< h of mean shift (§3.1), fraction of the diagonal in Γ's metric
     int min_cluster_support = 6;        ///< smallest cluster height worth verifying

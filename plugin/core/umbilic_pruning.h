@@ -8,20 +8,17 @@
 
 namespace symmetry {
 
-/// A sample is flat when its largest curvature bends the surface by less than
-/// flatness * r / 2 across the ball of radius r (for 0.05: 2.5% of r).  There both
-/// curvatures are at the level of tessellation noise, and so are the directions.
-constexpr double kFlatness = 0.05;
-
 /// True where the paper keeps the sample: |kappa1/kappa2| < gamma.  The paper's
 /// ratio is only meaningful for curvatures of equal sign ordered by magnitude; we use
 /// the equivalent, sign-safe form (kappa2 - kappa1) > (1 - gamma) max(|kappa1|, |kappa2|),
 /// which is the paper's test for equal signs and always keeps saddles (whose
-/// directions are well defined).  Flat samples (see kFlatness) are discarded too.
-bool has_distinct_principal_curvatures(const SurfaceSignature& s, double gamma, double radius);
+/// directions are well defined).  Flat samples are discarded too: those whose largest curvature
+/// bends the surface by less than flatness * r / 2 across the ball of radius r
+/// (DetectionOptions::flatness).
+bool has_distinct_principal_curvatures(const SurfaceSignature& s, double gamma, double radius, double flatness);
 
 /// Keeps the samples that pass has_distinct_principal_curvatures, in order.
 std::vector<SurfaceSignature> prune_umbilics(const std::vector<SurfaceSignature>& signatures, double gamma,
-                                             double radius);
+                                             double radius, double flatness);
 
 }  // namespace symmetry

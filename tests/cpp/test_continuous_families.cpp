@@ -2,12 +2,15 @@
 // finds none on a shape without one, and tells the family's own members from other
 // symmetries.
 #include "core/continuous_families.h"
+#include "core/sampling.h"
 #include "test_shapes.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <numeric>
+#include <random>
+#include <tuple>
 
 using namespace symmetry;
 using namespace symmetry::testing;
@@ -170,5 +173,62 @@ TEST(ContinuousFamilies, ATurnMustMapMostOfThePatchsAreaNotOnlyItsVertices) {
         EXPECT_GT(check.coverage, 0.99);
         if (with_plate) EXPECT_LT(check.area_coverage, ContinuousFamilyOptions().min_member_area_coverage);
         else EXPECT_GT(check.area_coverage, 0.99);
+    }
+}
+
+TEST(ContinuousFamilies, ACylindersSamplesSuggestItsAxis) {
+    // Signatures measured on a tilted cylinder mesh, as the detector measures them.
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
+    const Eigen::Vector3d shift(0.3, -1.2, 2.0);
+    const Eigen::Vector3d axis = tilt * Eigen::Vector3d::UnitZ();
+    const double R = 0.5, radius = 0.1, flatness = 0.05;
+    Analysed a;
+    analyse(transformed(cylinder(R, 2.0, 96, 40), tilt, shift), a);
+    std::mt19937_64 rng(5);
+    int suggested = 0, inside = 0;
+    for (const SurfaceSignature& s : compute_signatures(a.mesh, uniform_area_sampling(a.mesh, 200, rng), radius)) {
+        const double height = axis.dot(s.position - shift);
+        if (height < 2 * radius || height > 2.0 - 2 * radius) continue;  // the ball reaches past the open rim
+        ++inside;
+        ContinuousFamily f = cylinder_of_sample(s, radius, flatness);
+        if (f.kind == ContinuousKind::Discrete) continue;
+        ++suggested;
+        EXPECT_EQ(f.kind, ContinuousKind::Rotational);
+        EXPECT_TRUE(f.slides_along_axis);
+        EXPECT_LT(angle_degrees(f.direction, axis), 1.0);
+        // On the axis within the curvature estimate's error (slippage refines it afterwards).
+        EXPECT_LT(axis.cross(f.point - shift).norm(), 0.05 * R);
+    }
+    EXPECT_GT(inside, 100);
+    EXPECT_EQ(suggested, inside);
+
+    SurfaceSignature umbilic;  // a sphere's sample: both curvatures alike
+    umbilic.kappa1 = umbilic.kappa2 = 2;
+    EXPECT_EQ(cylinder_of_sample(umbilic, radius, flatness).kind, ContinuousKind::Discrete);
+    SurfaceSignature flat;  // a plane's: neither bends
+    flat.kappa1 = 0.1, flat.kappa2 = 0.2;
+    EXPECT_EQ(cylinder_of_sample(flat, radius, flatness).kind, ContinuousKind::Discrete);
+    SurfaceSignature saddle;  // a saddle's: both bend
+    saddle.kappa1 = -1, saddle.kappa2 = 2;
+    EXPECT_EQ(cylinder_of_sample(saddle, radius, flatness).kind, ContinuousKind::Discrete);
+}
+
+TEST(ContinuousFamilies, ABandOfAConeIsNoCylinder) {
+    // A cylinder and a cone of half-angle about 10 degrees share an axis; the cylinder
+    // family's patch lies on one cylinder, a band of the cone (a tenth of its height) not.
+    const ContinuousFamilyOptions options;
+    Shape cone = cylinder(0.5, 2.0, 96, 40);
+    for (Eigen::Index i = 0; i < cone.V.rows(); ++i) cone.V.row(i).head<2>() *= 1 - 0.35 * cone.V(i, 2);
+    for (const auto& [shape, band_height, on_cylinder] :
+         {std::tuple{cylinder(0.5, 2.0, 96, 40), 2.0, true}, std::tuple{cone, 0.2, false}}) {
+        Analysed a;
+        analyse(shape, a);
+        ContinuousFamily f;
+        f.kind = ContinuousKind::Rotational;
+        f.slides_along_axis = true;
+        f.direction = Eigen::Vector3d::UnitZ();
+        for (int v = 0; v < a.n.vertex_count(); ++v)
+            if (a.n.positions[size_t(v)].z() <= band_height + 1e-9) f.vertices.push_back(v);
+        EXPECT_EQ(lies_on_cylinder(a.n, f, 0.01 * a.diagonal, options), on_cylinder) << band_height;
     }
 }

@@ -14,6 +14,7 @@ namespace {
 using testing::Shape;
 
 constexpr double kGamma = 0.75;  // the paper's value (§2.1)
+constexpr double kFlatness = 0.05;  // DetectionOptions::flatness by default
 
 std::vector<SurfaceSignature> signatures_of(const Shape& shape, int count, uint64_t seed, double radius) {
     Mesh mesh;
@@ -33,13 +34,13 @@ SurfaceSignature with_curvatures(double kappa1, double kappa2) {
 TEST(UmbilicPruning, SphereSamplesAreAllPruned) {
     const double radius = 0.2;
     auto signatures = signatures_of(testing::sphere(1, 5), 500, 21, radius);
-    EXPECT_TRUE(prune_umbilics(signatures, kGamma, radius).empty());
+    EXPECT_TRUE(prune_umbilics(signatures, kGamma, radius, kFlatness).empty());
 }
 
 TEST(UmbilicPruning, CylinderSamplesAreKept) {
     const double radius = 0.15;
     auto signatures = signatures_of(testing::cylinder(1, 4, 128, 80), 500, 22, radius);
-    auto kept = prune_umbilics(signatures, kGamma, radius);
+    auto kept = prune_umbilics(signatures, kGamma, radius, kFlatness);
     EXPECT_EQ(kept.size(), signatures.size());
 }
 
@@ -52,11 +53,11 @@ TEST(UmbilicPruning, FlatSamplesArePruned) {
     plane.F << 0, 1, 2, 0, 2, 3;
     const double radius = 0.2;
     auto signatures = signatures_of(plane, 200, 23, radius);
-    EXPECT_TRUE(prune_umbilics(signatures, kGamma, radius).empty());
+    EXPECT_TRUE(prune_umbilics(signatures, kGamma, radius, kFlatness).empty());
     // A nearly flat cylinder: curvature 1/100 bends the ball of radius 0.2 by
     // 0.0002, below kFlatness * r / 2 = 0.005.
     auto wide = signatures_of(testing::cylinder(100, 4, 2000, 40), 200, 24, radius);
-    EXPECT_TRUE(prune_umbilics(wide, kGamma, radius).empty());
+    EXPECT_TRUE(prune_umbilics(wide, kGamma, radius, kFlatness).empty());
 }
 
 TEST(UmbilicPruning, SaddleSamplesAreKept) {
@@ -67,34 +68,34 @@ TEST(UmbilicPruning, SaddleSamplesAreKept) {
     int saddles = 0;
     for (const auto& s : signatures) {
         if (s.kappa1 < 0 && s.kappa2 > 0) ++saddles;
-        if (std::abs(s.position.z()) < 0.1) EXPECT_TRUE(has_distinct_principal_curvatures(s, kGamma, radius));
+        if (std::abs(s.position.z()) < 0.1) EXPECT_TRUE(has_distinct_principal_curvatures(s, kGamma, radius, kFlatness));
     }
     EXPECT_GT(saddles, 100);
     // Synthetic saddles: kept whatever the magnitudes, even at ratio -1.
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-1, 1), kGamma, 1));
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-0.1, 3), kGamma, 1));
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-3, 0.1), kGamma, 1));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-1, 1), kGamma, 1, kFlatness));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-0.1, 3), kGamma, 1, kFlatness));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-3, 0.1), kGamma, 1, kFlatness));
 }
 
 TEST(UmbilicPruning, BoundaryOfGamma) {
     // The paper keeps |kappa1/kappa2| < gamma, strictly (values exact in binary).
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(0.75, 1), kGamma, 1));
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(0.7499, 1), kGamma, 1));
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(-1, -0.75), kGamma, 1));
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-1, -0.7499), kGamma, 1));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(0.75, 1), kGamma, 1, kFlatness));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(0.7499, 1), kGamma, 1, kFlatness));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(-1, -0.75), kGamma, 1, kFlatness));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(-1, -0.7499), kGamma, 1, kFlatness));
     // Same ratio at another scale: the test is scale invariant (§2.2, Ω7).
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(7.5, 10), kGamma, 1));
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(7.4, 10), kGamma, 1));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(7.5, 10), kGamma, 1, kFlatness));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(7.4, 10), kGamma, 1, kFlatness));
 }
 
 TEST(UmbilicPruning, BoundaryOfFlatness) {
     // Flat below kFlatness / r, whatever the ratio.
     const double radius = 0.5;
-    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(0, kFlatness / radius), kGamma, radius));
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(0, 0.99 * kFlatness / radius), kGamma, radius));
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(-0.99 * kFlatness / radius, 0), kGamma, radius));
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(0, 0), kGamma, radius));
-    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(NAN, 1), kGamma, radius));
+    EXPECT_TRUE(has_distinct_principal_curvatures(with_curvatures(0, kFlatness / radius), kGamma, radius, kFlatness));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(0, 0.99 * kFlatness / radius), kGamma, radius, kFlatness));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(-0.99 * kFlatness / radius, 0), kGamma, radius, kFlatness));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(0, 0), kGamma, radius, kFlatness));
+    EXPECT_FALSE(has_distinct_principal_curvatures(with_curvatures(NAN, 1), kGamma, radius, kFlatness));
 }
 
 TEST(UmbilicPruning, AgreesWithThePapersRatioForEqualSigns) {
@@ -108,7 +109,7 @@ TEST(UmbilicPruning, AgreesWithThePapersRatioForEqualSigns) {
         double gamma = uniform(0.1, 0.95);
         bool paper = std::min(a, b) / std::max(a, b) < gamma;
         if (std::abs(std::min(a, b) / std::max(a, b) - gamma) < 1e-12) continue;  // rounding at the boundary
-        EXPECT_EQ(has_distinct_principal_curvatures(with_curvatures(k1, k2), gamma, 1), paper)
+        EXPECT_EQ(has_distinct_principal_curvatures(with_curvatures(k1, k2), gamma, 1, kFlatness), paper)
             << k1 << " " << k2 << " " << gamma;
     }
 }
@@ -117,7 +118,7 @@ TEST(UmbilicPruning, KeepsOrder) {
     std::vector<SurfaceSignature> in = {with_curvatures(0, 1), with_curvatures(1, 1), with_curvatures(-1, 2),
                                         with_curvatures(0.9, 1), with_curvatures(0.1, 2)};
     for (size_t i = 0; i < in.size(); ++i) in[i].face = int(i);
-    auto kept = prune_umbilics(in, kGamma, 1);
+    auto kept = prune_umbilics(in, kGamma, 1, kFlatness);
     ASSERT_EQ(kept.size(), 3u);
     EXPECT_EQ(kept[0].face, 0);
     EXPECT_EQ(kept[1].face, 2);
