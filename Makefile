@@ -8,8 +8,10 @@ BUILD := $(ROOT)/build
 STAMPS := $(ROOT)/.stamps
 PACKAGE := $(ROOT)/python_bindings/meshlab_symmetry
 PLUGIN := $(PACKAGE)/libfilter_symmetry.so
+# The core as a Python extension (python_bindings/core_module.cpp), named for the venv's Python.
+CORE_MODULE = _core$(shell $(PY) -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
 
-DEB_PACKAGES := g++ cmake ninja-build python3-venv libeigen3-dev libnanoflann-dev libgtest-dev \
+DEB_PACKAGES := g++ cmake ninja-build python3-venv python3-dev libeigen3-dev libnanoflann-dev libgtest-dev \
   qtbase5-dev libqt5opengl5-dev libqt5svg5-dev libglew-dev libglu1-mesa-dev mesa-common-dev
 
 DEMO_MESH := meshes/demo.ply
@@ -33,7 +35,7 @@ third_party/meshlab/.verified: scripts/fetch_meshlab_source.sh $(STAMPS)/apt
 	@scripts/fetch_meshlab_source.sh $(ROOT)/third_party
 
 build: setup
-	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev \
+	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev -DPYTHON_EXECUTABLE=$(PY) -Dpybind11_DIR="$$($(PY) -m pybind11 --cmakedir)" \
 	  -DPYMESHLAB_DIR="$$($(PY) -c 'import os, pymeshlab; print(os.path.dirname(pymeshlab.__file__))')" > $(BUILD).configure.log 2>&1 \
 	  || { cat $(BUILD).configure.log; exit 1; }
 	@cmake --build $(BUILD)
@@ -41,6 +43,8 @@ build: setup
 	@# would crash (SIGBUS) on a file rewritten under it.
 	@cmp -s $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN) || \
 	  { cp $(BUILD)/plugin/filter_symmetry/libfilter_symmetry.so $(PLUGIN).tmp && mv -f $(PLUGIN).tmp $(PLUGIN); }
+	@cmp -s $(BUILD)/python_bindings/$(CORE_MODULE) $(PACKAGE)/$(CORE_MODULE) || \
+	  { cp $(BUILD)/python_bindings/$(CORE_MODULE) $(PACKAGE)/$(CORE_MODULE).tmp && mv -f $(PACKAGE)/$(CORE_MODULE).tmp $(PACKAGE)/$(CORE_MODULE); }
 
 DEMO_OUT := meshes/demo_report
 demo: build
@@ -58,7 +62,7 @@ SANITIZE_BUILD := $(ROOT)/build-sanitize
 SANITIZER_RUNTIMES = $$(g++ -print-file-name=libasan.so):$$(g++ -print-file-name=libubsan.so)
 SANITIZE_PYTESTS := tests/python/test_broken_input.py tests/python/test_filter_api.py tests/python/test_parameter_extremes.py
 test-sanitize: setup
-	@cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYMMETRY_SANITIZE=ON -Wno-dev \
+	@cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYMMETRY_SANITIZE=ON -Wno-dev -DPYTHON_EXECUTABLE=$(PY) -Dpybind11_DIR="$$($(PY) -m pybind11 --cmakedir)" \
 	  -DPYMESHLAB_DIR="$$($(PY) -c 'import os, pymeshlab; print(os.path.dirname(pymeshlab.__file__))')" > $(SANITIZE_BUILD).configure.log 2>&1 \
 	  || { cat $(SANITIZE_BUILD).configure.log; exit 1; }
 	@cmake --build $(SANITIZE_BUILD)
@@ -71,4 +75,4 @@ benchmark: build
 	$(PY) tests/benchmarks/benchmark.py
 
 clean:
-	rm -rf $(BUILD) $(SANITIZE_BUILD) $(STAMPS) $(PLUGIN)
+	rm -rf $(BUILD) $(SANITIZE_BUILD) $(STAMPS) $(PLUGIN) $(PACKAGE)/$(CORE_MODULE)

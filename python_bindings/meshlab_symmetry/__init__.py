@@ -45,7 +45,8 @@ from .result import Symmetry, SymmetryResult  # noqa: E402
 from .api import detect  # noqa: E402
 
 #: the picture functions of meshlab_symmetry.pictures, importable from the package itself
-_PICTURES = ("deviation_picture", "patches_picture", "transformation_space_picture", "report_html")
+_PICTURES = ("deviation_picture", "patches_picture", "transformation_space_picture", "sample_size_curve",
+             "report_html")
 
 __all__ = ["FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json",
            "detect", "SymmetryResult", "Symmetry", "Plane", "Axis", *_PICTURES]

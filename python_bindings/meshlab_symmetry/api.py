@@ -15,7 +15,7 @@ from __future__ import annotations
 import os
 import textwrap
 from dataclasses import dataclass
-from typing import Any, Protocol, Union
+from typing import Any, Callable, Optional, Protocol, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -23,7 +23,7 @@ import pymeshlab
 
 from .geometry import describe_discrete, describe_family
 from .result import Symmetry, SymmetryResult
-from .symmetry_graph import FILTER_NAME, _patch_layer_ids, symmetry_graph
+from .symmetry_graph import CONTINUOUS_KINDS, FILTER_NAME, _patch_layer_ids, graph_of_patches, symmetry_graph
 
 #: names of the filter's transformation_group values
 GROUPS = {"rigid": 0, "similarity": 1, "reflections": 2, "translations": 3}
@@ -129,6 +129,8 @@ def detect(
     basis_loop_length: int = 3,
     basis_tolerance: float = 0.02,
     random_seed: int = 0,
+    engine: str = "filter",
+    progress: Optional[Callable[[int, str], None]] = None,
 ) -> SymmetryResult:
     """Detects the partial and approximate symmetries of a triangle mesh (Mitra, Guibas,
     Pauly 2006) and returns them as a SymmetryResult.
@@ -144,12 +146,25 @@ def detect(
     memory than there is, and pymeshlab.PyMeshLabException with the filter's sentence for
     a mesh it cannot analyse (a point cloud, NaN coordinates, a parameter out of range).
 
-    Every parameter is keyword-only, with the filter's default (unit; meaning):
+    ``engine`` is "filter" (the MeshLab filter through pymeshlab, as a filter script runs
+    it) or "core" (the compiled core without pymeshlab in the loop: the same result for
+    the same seed; its graph's nodes list no layers).  ``progress``, with the core only, is
+    called as progress(percent, stage) on the calling thread during the run; Ctrl-C stops it.
+
+    Every other parameter is keyword-only, with the filter's default (unit; meaning):
     """
     parameters = dict(locals())  # the parameters exactly as given, defaults included
-    del parameters["mesh"]
+    for name in ("mesh", "engine", "progress"):
+        del parameters[name]
     parameters["transformation_group"] = _group_index(transformation_group)
     ms = _private_meshset(mesh)
+    if engine == "core":
+        return _detect_with_core(ms, parameters, progress)
+    if engine != "filter":
+        raise ValueError(f"engine '{engine}' is not one of filter, core")
+    if progress is not None:
+        raise ValueError("progress is reported by the core engine only (pymeshlab runs a filter without "
+                         "a callback); pass engine='core'")
     return _detect_in_meshset(ms, parameters)
 
 
@@ -346,19 +361,70 @@ def _gather(ms: pymeshlab.MeshSet, mesh_id: int, raw: dict[str, Any],
 def _symmetry(k: int, raw: dict[str, Any], edge: dict[str, Any], patches: list[np.ndarray],
               diagonal: float, centre: np.ndarray) -> Symmetry:
     """Symmetry k of the filter's flat arrays, with its geometry read off."""
-    matrix = np.array(raw["transforms"][16 * k:16 * k + 16], dtype=np.float64).reshape(4, 4)
-    scale, is_reflection = float(raw["scales"][k]), bool(raw["is_reflection"][k])
-    kind_code = int(raw["continuous_kinds"][k])
-    if kind_code:
-        axes = np.array(raw["continuous_axes"][6 * k:6 * k + 6], dtype=np.float64)
-        geometry = describe_family(kind_code, axes[:3], axes[3:], float(raw["continuous_pitches"][k]),
-                                   diagonal, centre)
-    else:
-        geometry = describe_discrete(matrix, scale, is_reflection, diagonal, centre)
-    return Symmetry(
-        index=k, matrix=matrix, scale=scale, is_reflection=is_reflection,
+    axes = np.array(raw["continuous_axes"][6 * k:6 * k + 6], dtype=np.float64)
+    return _typed_symmetry(
+        k, diagonal, centre,
+        matrix=np.array(raw["transforms"][16 * k:16 * k + 16], dtype=np.float64).reshape(4, 4),
+        scale=float(raw["scales"][k]), is_reflection=bool(raw["is_reflection"][k]),
+        continuous_kind=int(raw["continuous_kinds"][k]), axis_point=axes[:3], axis_direction=axes[3:],
+        pitch=float(raw["continuous_pitches"][k]),
         source_vertices=patches[0], target_vertices=patches[1],
         rms_error=float(raw["rms_errors"][k]), max_error=float(raw["max_errors"][k]),
         systematic_error=float(raw["systematic_errors"][k]), source_area=float(raw["source_areas"][k]),
-        support=int(raw["supports"][k]), is_generator=bool(edge["is_generator"]), word=tuple(edge["word"]),
-        **geometry)
+        support=int(raw["supports"][k]), is_generator=bool(edge["is_generator"]), word=tuple(edge["word"]))
+
+
+def _typed_symmetry(k: int, diagonal: float, centre: np.ndarray, *, matrix: np.ndarray, scale: float,
+                    is_reflection: bool, continuous_kind: int, axis_point: np.ndarray,
+                    axis_direction: np.ndarray, pitch: float, **values: Any) -> Symmetry:
+    """A Symmetry with its kind in words and its plane or axis read off its matrix (or, for a
+    continuous family, off its axis)."""
+    if continuous_kind:
+        geometry = describe_family(continuous_kind, axis_point, axis_direction, pitch, diagonal, centre)
+    else:
+        geometry = describe_discrete(matrix, scale, is_reflection, diagonal, centre)
+    return Symmetry(index=k, matrix=matrix, scale=scale, is_reflection=is_reflection, **values, **geometry)
+
+
+# --- the compiled core, without pymeshlab in the loop -------------------------------------------
+
+def _detect_with_core(ms: pymeshlab.MeshSet, parameters: dict[str, Any],
+                      progress: Optional[Callable[[int, str], None]]) -> SymmetryResult:
+    from . import _core  # built beside the plugin by make
+    mesh = ms.current_mesh()
+    vertices = np.ascontiguousarray(mesh.vertex_matrix(), dtype=np.float64)
+    faces = np.ascontiguousarray(mesh.face_matrix(), dtype=np.int32)
+    box = mesh.bounding_box()
+    diagonal, centre = float(box.diagonal()), np.asarray(box.center(), dtype=np.float64)
+    raw = _core.detect(vertices, faces, {p.name: parameters[p.name] for p in PARAMETERS}, progress)
+    symmetries, edges = [], []
+    for k, d in enumerate(raw["symmetries"]):
+        word = [int(letter) for letter in d["word"]]
+        patches = [np.asarray(d[side], dtype=np.int64) for side in ("source_vertices", "target_vertices")]
+        symmetries.append(_typed_symmetry(
+            k, diagonal, centre, matrix=np.asarray(d["matrix"], dtype=np.float64), scale=d["scale"],
+            is_reflection=d["is_reflection"], continuous_kind=d["continuous_kind"],
+            axis_point=np.asarray(d["axis_point"]), axis_direction=np.asarray(d["axis_direction"]),
+            pitch=d["pitch"], source_vertices=patches[0], target_vertices=patches[1],
+            rms_error=d["rms_error"], max_error=d["max_error"], systematic_error=d["systematic_error"],
+            source_area=d["source_area"], support=d["support"], is_generator=d["is_generator"],
+            word=tuple(word)))
+        edge = {"source_vertices": patches[0], "target_vertices": patches[1],
+                "transform": np.asarray(d["matrix"]).tolist(), "scale": d["scale"],
+                "is_reflection": d["is_reflection"], "rms_error": d["rms_error"], "support": d["support"],
+                "is_generator": d["is_generator"], "word": word,
+                "continuous_kind": CONTINUOUS_KINDS[d["continuous_kind"]]}
+        if d["continuous_kind"]:
+            edge.update(axis_point=list(d["axis_point"]), axis_direction=list(d["axis_direction"]),
+                        pitch=d["pitch"])
+        edges.append(edge)
+    return SymmetryResult(
+        symmetries=symmetries,
+        deviation=np.asarray(raw["deviation"], dtype=np.float64),
+        symmetry_id=np.asarray(raw["symmetry_id"]).astype(np.int64),
+        graph=graph_of_patches(vertices, faces, edges),
+        timings=dict(raw["timings"]),
+        work=dict(raw["work"]),
+        parameters=dict(parameters),
+        vertex_count=len(vertices),
+        diagonal=diagonal)

@@ -24,6 +24,7 @@ import html
 import os
 import sys
 from dataclasses import dataclass
+from typing import Any, Sequence
 
 import numpy as np
 import pymeshlab
@@ -35,7 +36,7 @@ from matplotlib.patches import Patch
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from scipy.spatial import cKDTree
 
-from .api import MeshInput, _private_meshset
+from .api import MeshInput, _private_meshset, detect
 from .geometry import canonical_sign
 from .result import Symmetry, SymmetryResult
 
@@ -600,3 +601,33 @@ table{{border-collapse:collapse}} td,th{{border:1px solid #bbb;padding:2px 8px;t
 <table><tr><th>parameter</th><th>value</th></tr>{parameters}</table>
 </body></html>
 """
+
+
+# --- e. symmetries found against |P'| (the paper's Figure 5, left) ------------------------------
+
+def sample_size_curve(mesh: MeshInput, path: str, sizes: Sequence[int] = (100, 200, 500, 1000, 2000, 5000),
+                      **parameters: Any) -> tuple[Picture, list[tuple[int, int]]]:
+    """Runs the detector once per size n' of the paired subset P' (``pair_sample_count``;
+    the compiled core, the other ``parameters`` as given to detect) and plots the number of
+    symmetries found against n', with the automatic n' of the Appendix's bound marked: the
+    paper's Figure 5, left, which shows the count levelling off once P' holds enough samples
+    of the smallest patch.  Returns the Picture and the (n', count) points; it takes as long
+    as len(sizes) + 1 detections."""
+    points = []
+    for size in sizes:
+        found = detect(mesh, engine="core", **{**parameters, "pair_sample_count": int(size)})
+        points.append((int(found.work["pair_sample_count_used"]), len(found.symmetries)))
+    automatic = detect(mesh, engine="core", **{**parameters, "pair_sample_count": 0})
+    chosen = (int(automatic.work["pair_sample_count_used"]), len(automatic.symmetries))
+    fig = _new_figure("Symmetries found against the size of P' (Figure 5)")
+    ax = fig.add_axes((0.1, 0.12, 0.85, 0.76))
+    ax.plot([p[0] for p in points], [p[1] for p in points], "o-", color="#2166ac", label="fixed n'")
+    ax.plot([chosen[0]], [chosen[1]], "s", color="#b2182b", markersize=10,
+            label=f"automatic n' = {chosen[0]} (Appendix, Equation 1)")
+    ax.set_xscale("log")
+    ax.set_xlabel("n' = |P'|, samples paired against all (log scale)")
+    ax.set_ylabel("symmetries reported")
+    ax.yaxis.get_major_locator().set_params(integer=True)
+    ax.grid(True, alpha=0.3)
+    legend = ax.legend(loc="lower right")
+    return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()]), points + [chosen]

@@ -106,28 +106,13 @@ def symmetry_graph(ms, result, mesh_id=None, merge_overlap=0.9):
     pitches = _vector(result, "continuous_pitches", count)
     letters = len(words) // count if count else 0
 
-    nodes, node_sets = [], []
+    patches = _Nodes(merge_overlap)
 
     def node_of(layer_id):
         mesh = ms.mesh(layer_id)
-        keys = _vertex_key_set(mesh)
-        for index, other in enumerate(node_sets):
-            union = len(keys | other)
-            if union and len(keys & other) / union >= merge_overlap:
-                nodes[index]["layers"].append(mesh.label())
-                nodes[index]["layer_ids"].append(int(layer_id))
-                return index
-        area = _surface_area(mesh)
-        nodes.append({
-            "id": len(nodes),
-            "name": mesh.label(),
-            "layers": [mesh.label()],
-            "layer_ids": [int(layer_id)],
-            "vertex_count": int(mesh.vertex_number()),
-            "area_fraction": area / total_area if total_area > 0 else 0.0,
-        })
-        node_sets.append(keys)
-        return len(nodes) - 1
+        return patches.node_of(_vertex_key_set(mesh), mesh.label(), int(mesh.vertex_number()),
+                               lambda: _surface_area(mesh) / total_area if total_area > 0 else 0.0,
+                               layer=(mesh.label(), int(layer_id)))
 
     edges = []
     for k, (source_layer, target_layer) in enumerate(_patch_layer_ids(ms, result, count)):
@@ -148,12 +133,80 @@ def symmetry_graph(ms, result, mesh_id=None, merge_overlap=0.9):
         if kinds[k] != 0:
             edges[-1].update(axis_point=axes[6 * k:6 * k + 3].tolist(),
                              axis_direction=axes[6 * k + 3:6 * k + 6].tolist(), pitch=float(pitches[k]))
+    return _graph(patches.nodes, edges)
+
+
+def _graph(nodes, edges):
     return {
-        "symmetry_count": count,
+        "symmetry_count": len(edges),
         "nodes": nodes,
         "edges": edges,
         "generators": [e["symmetry"] for e in edges if e["is_generator"]],
     }
+
+
+class _Nodes:
+    """The graph's nodes: a patch whose vertex set overlaps a node's by at least
+    ``merge_overlap`` (intersection over union) is that node."""
+
+    def __init__(self, merge_overlap):
+        self.merge_overlap = merge_overlap
+        self.nodes, self._sets = [], []
+
+    def node_of(self, keys, name, vertex_count, area_fraction, layer=None):
+        """The index of the node of the patch with vertex set ``keys``; ``area_fraction``
+        is called for a new node only; ``layer`` is (label, id) of the patch's layer."""
+        for index, other in enumerate(self._sets):
+            union = len(keys | other)
+            if union and len(keys & other) / union >= self.merge_overlap:
+                if layer:
+                    self.nodes[index]["layers"].append(layer[0])
+                    self.nodes[index]["layer_ids"].append(layer[1])
+                return index
+        self.nodes.append({
+            "id": len(self.nodes),
+            "name": name,
+            "layers": [layer[0]] if layer else [],
+            "layer_ids": [layer[1]] if layer else [],
+            "vertex_count": vertex_count,
+            "area_fraction": area_fraction(),
+        })
+        self._sets.append(keys)
+        return len(self.nodes) - 1
+
+
+def graph_of_patches(vertices, faces, edges_data, merge_overlap=0.9):
+    """The same graph as symmetry_graph, from patches given as input vertex indices (the
+    compiled core's answer, which has no layers): ``edges_data`` holds per symmetry a dict
+    with source_vertices, target_vertices and the edge's other fields (transform, scale,
+    is_reflection, rms_error, support, is_generator, word, continuous_kind and, for a
+    family, axis_point, axis_direction, pitch).  A patch's area is that of the faces whose
+    three corners are in it, as in its layer; nodes name their patch as the layer would be
+    named and list no layers."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces).reshape(-1, 3)
+    a, b, c = (vertices[faces[:, i]] for i in range(3)) if len(faces) else (np.zeros((0, 3)),) * 3
+    face_areas = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    total_area = float(face_areas.sum())
+    patches = _Nodes(merge_overlap)
+
+    def node_of(patch, name):
+        inside = np.zeros(len(vertices), dtype=bool)
+        inside[np.asarray(patch, dtype=np.int64)] = True
+
+        def area_fraction():
+            area = float(face_areas[inside[faces].all(axis=1)].sum()) if len(faces) else 0.0
+            return area / total_area if total_area > 0 else 0.0
+        return patches.node_of(frozenset(np.flatnonzero(inside).tolist()), name, int(inside.sum()), area_fraction)
+
+    edges = []
+    for k, data in enumerate(edges_data):
+        edge = {"symmetry": k,
+                "source": node_of(data["source_vertices"], f"symmetry_{k}_source"),
+                "target": node_of(data["target_vertices"], f"symmetry_{k}_target")}
+        edge.update({key: value for key, value in data.items() if key not in ("source_vertices", "target_vertices")})
+        edges.append(edge)
+    return _graph(patches.nodes, edges)
 
 
 def detect_symmetries(ms, **params):

@@ -221,3 +221,17 @@ def test_cli_report_writes_the_report_beside_the_other_files(sphere, tmp_path):
     assert result.parameters["sample_count"] == 1000
     check_report(str(out), result)
     assert os.path.exists(out / "bumpy.symmetry.ply")
+
+
+def test_sample_size_curve_counts_what_each_run_finds(tmp_path):
+    """The Figure 5 curve on the bumpy sphere (one mirror): a point per n' asked for plus the
+    automatic one, each the count that a detection at that n' reports, drawn in a picture
+    that shows something."""
+    mesh = mirror_symmetric_mesh(3)
+    light = dict(random_seed=1, sample_count=2000, transformation_group=2)
+    picture, points = pictures.sample_size_curve(mesh, str(tmp_path / "figure5.png"), sizes=(20, 500), **light)
+    assert len(points) == 3
+    assert [p[0] for p in points[:2]] == [20, 500]
+    assert points[1][1] == len(detect(mesh, engine="core", pair_sample_count=500, **light).symmetries) >= 1
+    assert any("automatic" in text for text in picture.legend)
+    assert len(np.unique(pixels(picture), axis=0)) > 20
