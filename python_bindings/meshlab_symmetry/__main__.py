@@ -6,7 +6,9 @@ writes into OUTDIR <stem>.symmetry.ply (the input with per-vertex quality = sign
 deviation from symmetry and its colour ramp), <stem>.symmetry_<k>_source.ply and
 <stem>.symmetry_<k>_target.ply (the patches of symmetry k) and symmetries.json
 (SymmetryResult.to_json), and prints a table of the symmetries.  With --report also
-report.html and its pictures (meshlab_symmetry.pictures).
+report.html and its pictures (meshlab_symmetry.pictures).  It runs the compiled core with a
+progress bar on stderr (on a terminal, or with --progress); --engine filter runs the MeshLab
+filter through pymeshlab instead.
 
 The older form stays as it was:
 
@@ -20,13 +22,16 @@ path without its extension unless --output-prefix is given (a directory there me
 Either form reports an error as one line on stderr and exits non-zero.
 """
 import argparse
+import contextlib
 import os
 import sys
 
+import numpy as np
 import pymeshlab
 
 from . import FILTER_NAME
-from .api import GROUPS, PARAMETERS, _detect_in_meshset, load_mesh_file, obj_face_index_problem  # noqa: F401
+from .api import (GROUPS, PARAMETERS, _detect_in_meshset, _detect_with_core, load_mesh_file,  # noqa: F401
+                  obj_face_index_problem)
 from .symmetry_graph import _mesh_ids, symmetry_graph, to_json
 
 #: the console script's name, which begins its error lines
@@ -158,6 +163,12 @@ def _detect_parser():
     parser.add_argument("--report", action="store_true",
                         help="also write report.html with pictures of the deviation, the patches and the pairs' "
                              "reflections (PNG files beside it) and a table of the symmetries")
+    parser.add_argument("--engine", choices=("core", "filter"), default="core",
+                        help="'core' runs the compiled core, with a progress bar; 'filter' runs the MeshLab filter "
+                             "through pymeshlab, as a filter script would, and saves the mesh as MeshLab holds it "
+                             "(every attribute it read); the same symmetries for the same seed (default: %(default)s)")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                        help="draw the core's progress bar on stderr (default: when stderr is a terminal)")
     for p in PARAMETERS:
         flag = "--" + p.name.replace("_", "-")
         text = f"{p.meaning} ({p.unit}; default: %(default)s)"
@@ -177,11 +188,19 @@ def _detect_command(argv):
     args = parser.parse_args(argv)
     parameters = {p.name: getattr(args, p.name) for p in PARAMETERS}
     parameters["transformation_group"] = GROUPS[args.transformation_group]
+    show_progress = sys.stderr.isatty() if args.progress is None else args.progress
+    if show_progress and args.engine != "core":
+        parser.error("--progress needs --engine core (pymeshlab runs a filter without a callback)")
     try:
         ms = pymeshlab.MeshSet()
         load_mesh_file(ms, args.input)
         mesh_id = ms.current_mesh_id()
-        result = _detect_in_meshset(ms, parameters)
+        if args.engine == "core":
+            with _ProgressBar(sys.stderr) if show_progress else contextlib.nullcontext() as bar:
+                result = _detect_with_core(ms, parameters, bar)
+            mesh_id = _add_outputs_to_meshset(ms, mesh_id, result)
+        else:
+            result = _detect_in_meshset(ms, parameters)
         written = _write_outputs(ms, mesh_id, result, args.input, args.output_dir)
         if args.report:
             written += _write_report(args.input, result, args.output_dir)
@@ -192,9 +211,71 @@ def _detect_command(argv):
         print(f"{PROG}: error: the analysis ran out of memory; lower --sample-count, --pair-sample-count or "
               "--max-working-vertices", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print(f"\n{PROG}: interrupted; no file written after the detection stopped", file=sys.stderr)
+        return 130
     print(_table({**result.timings, **result.work}, result.graph, [s.kind for s in result.symmetries]))
     print(f"wrote {len(written)} files to {args.output_dir}")
     return 0
+
+
+class _ProgressBar:
+    """`[#########...........]  45% Mean-shift clustering in transformation space`, redrawn in
+    place on a terminal (or appended, one line per stage, elsewhere); called as the core's
+    progress callback."""
+    WIDTH = 30
+
+    def __init__(self, stream):
+        self.stream, self.stage = stream, None
+        self.terminal = stream.isatty()
+
+    def __call__(self, percent, stage):
+        if not self.terminal and stage == self.stage and percent < 100:
+            return  # a log file gets a line per stage, not one per step
+        self.stage = stage
+        filled = self.WIDTH * percent // 100
+        line = f"[{'#' * filled}{'.' * (self.WIDTH - filled)}] {percent:3d}% {stage}"
+        self.stream.write(f"\r{line:<100}" if self.terminal else line + "\n")
+        self.stream.flush()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.terminal:
+            self.stream.write("\n")
+            self.stream.flush()
+        return False
+
+
+def _add_outputs_to_meshset(ms, mesh_id, result):
+    """What the filter leaves in the MeshSet, from the core's result: on the input mesh the
+    per-vertex quality (the signed deviation) and MeshLab's red-green-blue colour ramp over
+    -max..max of it, grey where no symmetry holds; a layer symmetry_<k>_source/_target per
+    patch (its vertices and the faces among them), for _write_outputs."""
+    mesh = ms.mesh(mesh_id)
+    vertices, faces = mesh.vertex_matrix(), mesh.face_matrix()
+    extent = float(np.abs(result.deviation).max()) if len(result.deviation) else 0.0
+    extent = extent if extent > 0 else 1e-6  # all exact: the ramp's centre colour everywhere
+    ramp = pymeshlab.MeshSet()
+    ramp.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces, v_scalar_array=result.deviation))
+    ramp.compute_color_from_scalar_per_vertex(minval=-extent, maxval=extent)
+    colours = ramp.current_mesh().vertex_color_matrix()
+    colours[result.symmetry_id < 0] = [128 / 255, 128 / 255, 128 / 255, 1.0]
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces, v_scalar_array=result.deviation,
+                               v_color_matrix=colours), mesh.label())
+    coloured = ms.current_mesh_id()
+    ms.set_current_mesh(mesh_id)
+    ms.delete_current_mesh()
+    for s in result.symmetries:
+        for side, rows in (("source", s.source_vertices), ("target", s.target_vertices)):
+            inside = np.full(len(vertices), -1, dtype=np.int64)
+            inside[rows] = np.arange(len(rows))
+            kept = faces[(inside[faces] >= 0).all(axis=1)]
+            ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices[rows], face_matrix=inside[kept].astype(np.int32)),
+                        f"symmetry_{s.index}_{side}")
+    ms.set_current_mesh(coloured)
+    return coloured
 
 
 def _write_report(input_path, result, output_dir):

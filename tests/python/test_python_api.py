@@ -456,14 +456,19 @@ def run_script(*args):
     return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=600)
 
 
-def test_cli_detect_writes_every_file(mirror_file, mirror_result, tmp_path):
+@pytest.mark.parametrize("engine", ["core", "filter"])
+def test_cli_detect_writes_every_file(mirror_file, mirror_result, tmp_path, engine):
     path, V, _ = mirror_file
     out = tmp_path / "out"
     proc = run_script("detect", str(path), "-o", str(out), "--transformation-group", "reflections",
-                      "--sample-count", "2000", "--pair-sample-count", "500", "--random-seed", "1")
+                      "--sample-count", "2000", "--pair-sample-count", "500", "--random-seed", "1",
+                      "--engine", engine)
     assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""  # no progress bar when stderr is not a terminal, unless asked for
     result = SymmetryResult.from_json((out / "symmetries.json").read_text())
-    assert comparable(result) == comparable(mirror_result)   # the options reached the filter
+    expected = mirror_result if engine == "filter" else detect(str(path), transformation_group="reflections",
+                                                               engine="core", **RUN)
+    assert comparable(result) == comparable(expected)   # the options reached the engine
     patches = {f"bumpy.symmetry_{k}_{side}.ply" for k in range(len(result.symmetries)) for side in ("source", "target")}
     assert set(os.listdir(out)) == {"bumpy.symmetry.ply", "symmetries.json"} | patches
     ms = pymeshlab.MeshSet()
@@ -475,6 +480,24 @@ def test_cli_detect_writes_every_file(mirror_file, mirror_result, tmp_path):
         ms.load_new_mesh(str(out / f"bumpy.symmetry_{s.index}_source.ply"))
         assert ms.current_mesh().vertex_number() == len(s.source_vertices)
     assert "reflection" in proc.stdout and "verification" in proc.stdout
+
+
+def test_cli_progress_bar_names_each_stage_up_to_100(mirror_file, tmp_path):
+    proc = run_script("detect", str(mirror_file[0]), "-o", str(tmp_path / "out"), "--progress",
+                      "--sample-count", "2000", "--pair-sample-count", "500")
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert all(line.startswith("[") and "%" in line for line in lines), lines
+    assert any("Verification" in line for line in lines) and lines[-1].endswith("100% Done"), lines
+    percents = [int(line.split("]")[1].split("%")[0]) for line in lines]
+    assert percents == sorted(percents)
+
+
+def test_cli_progress_needs_the_core_engine(mirror_file, tmp_path):
+    proc = run_script("detect", str(mirror_file[0]), "-o", str(tmp_path / "out"), "--progress", "--engine", "filter")
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines() == [
+        "meshlab-symmetry: error: --progress needs --engine core (pymeshlab runs a filter without a callback)"]
 
 
 def test_cli_help_lists_every_filter_parameter():
