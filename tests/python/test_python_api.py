@@ -134,8 +134,11 @@ def test_detect_has_every_filter_parameter_with_its_default_and_help():
     values = ms.filter_parameter_values(FILTER)
     diagonal = ms.current_mesh().bounding_box().diagonal()
     signature = inspect.signature(detect)
-    names = [n for n in signature.parameters if n != "mesh"]
+    # the mesh, the filter's parameters, then how to run it (engine, progress)
+    names = [n for n in signature.parameters if n not in ("mesh", "engine", "progress")]
     assert names == [n for n in values if n != "create_patch_layers"] == [p.name for p in PARAMETERS]
+    assert list(signature.parameters)[-2:] == ["engine", "progress"]
+    assert "engine" in detect.__doc__ and "progress(percent, stage)" in detect.__doc__
     assert signature.return_annotation == "SymmetryResult"
     for p in PARAMETERS:
         parameter = signature.parameters[p.name]
