@@ -60,7 +60,8 @@ test: build
 # not instrumented, so the sanitizers' runtimes are preloaded and its own leaks not counted.
 SANITIZE_BUILD := $(ROOT)/build-sanitize
 SANITIZER_RUNTIMES = $$(g++ -print-file-name=libasan.so):$$(g++ -print-file-name=libubsan.so)
-SANITIZE_PYTESTS := tests/python/test_broken_input.py tests/python/test_filter_api.py tests/python/test_parameter_extremes.py
+SANITIZE_PYTESTS := tests/python/test_broken_input.py tests/python/test_filter_api.py tests/python/test_parameter_extremes.py \
+  tests/python/test_symmetrization.py
 test-sanitize: setup
 	@cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYMMETRY_SANITIZE=ON -Wno-dev -DPYTHON_EXECUTABLE=$(PY) -Dpybind11_DIR="$$($(PY) -m pybind11 --cmakedir)" \
 	  -DPYMESHLAB_DIR="$$($(PY) -c 'import os, pymeshlab; print(os.path.dirname(pymeshlab.__file__))')" > $(SANITIZE_BUILD).configure.log 2>&1 \

@@ -453,6 +453,16 @@ def find_mirror_planes(V: np.ndarray, F: np.ndarray, directions: int = 4000,
     return OracleResult(surface.diag, surface.centroid, good, rejected)
 
 
+def residual_near(V: np.ndarray, F: np.ndarray, n: Sequence[float], d: float, seed: int = 0) -> Dict[str, float]:
+    """residual_stats of the shape's own best mirror plane near n . x = d (reflection-only
+    ICP from it, then exact residuals on fresh samples): how mirror-symmetric the shape is
+    about that plane, refined, whatever plane a detector reported."""
+    surface = Surface(V, F, 200_000, seed)
+    Q, f = surface.sample(20_000, np.random.default_rng(seed + 2))
+    n, d = refine_plane(surface, Q, surface.normals[f], np.asarray(n, float), float(d))
+    return evaluate_plane(surface, n, d, seed=seed + 1)
+
+
 def plane_spread(surface: Surface, plane: MirrorPlane, queries: int, seed: int,
                  repeats: int = 2) -> float:
     """Refine the plane again on `repeats` fresh sample sets and return the largest angle

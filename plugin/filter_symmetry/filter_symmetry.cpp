@@ -3,9 +3,11 @@
 #include "symmetry_parameters.h"
 
 #include <core/detection.h>
+#include <core/symmetrization.h>
 
 #include <common/mlexception.h>
 #include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/normal.h>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -311,11 +313,69 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	return out;
 }
 
+/// Calls `work` (the core), turning every failure into an MLException whose sentence starts
+/// with `task` and says that the mesh was left unchanged: nothing is written before it returns.
+template <class Work>
+void callCore(const QString& task, Work&& work)
+{
+	try {
+		work();
+	}
+	catch (const symmetry::InputError& e) {
+		throw MLException(QString::fromStdString(e.what()));
+	}
+	catch (const MLException&) {
+		throw;
+	}
+	catch (const std::bad_alloc&) {
+		throw MLException(task + " ran out of memory. The mesh was left unchanged; try fewer samples "
+		                         "(sample_count, pair_sample_count).");
+	}
+	catch (const std::exception& e) {
+		throw MLException(task + QString(" failed because of an internal error (%1). The mesh was left unchanged; "
+		                                 "please report this with the mesh and the parameters used.")
+		                             .arg(QString::fromLocal8Bit(e.what())));
+	}
+	catch (...) {
+		throw MLException(task + " failed because of an unknown internal error. The mesh was left unchanged; "
+		                         "please report this with the mesh and the parameters used.");
+	}
+}
+
+/// What detection found on the current mesh, with the mesh and options it ran on.
+struct Detection {
+	HostMesh host;
+	symmetry::DetectionOptions options;
+	symmetry::DetectionResult result;
+};
+
+/// Runs the core's detection on `m` with the filter's parameters; the progress bar goes
+/// from 0 to `progressEnd` percent.  Writes nothing.
+Detection runDetection(CMeshO& m, const RichParameterList& parameters, vcg::CallBackPos* cb, int progressEnd)
+{
+	Detection d;
+	callCore("Symmetry detection", [&] {
+		// The host turned the percentages into lengths with this diagonal; undo it the same way.
+		const double diagonal = m.bbox.IsNull() ? 0.0 : double(m.bbox.Diag());
+		d.options = symmetry_parameters::fromRichParameterList(parameters, diagonal);
+		d.options.validate();
+		d.host = copyMesh(m);
+		// The core reports on this thread only, so forwarding to MeshLab's callback is safe.
+		symmetry::Progress progress = [cb, progressEnd](int percent, const char* stage) {
+			if (cb != nullptr)
+				cb(std::clamp(percent, 0, 100) * progressEnd / 100, stage);
+		};
+		d.result = symmetry::detect_partial_symmetries(d.host.V, d.host.F, d.options, progress);
+		checkResult(d.result, d.host.V.rows(), d.options);
+	});
+	return d;
+}
+
 }  // namespace
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION};
 	for (ActionIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -329,6 +389,7 @@ QString FilterSymmetryPlugin::filterName(ActionIDType filter) const
 {
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return "Detect Partial and Approximate Symmetries";
+	case FP_SYMMETRIZATION: return "Symmetrize Approximate Symmetries";
 	default: assert(0); return QString();
 	}
 }
@@ -337,6 +398,7 @@ QString FilterSymmetryPlugin::pythonFilterName(ActionIDType filter) const
 {
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return "compute_partial_symmetries";
+	case FP_SYMMETRIZATION: return "apply_coord_symmetrization";
 	default: assert(0); return QString();
 	}
 }
@@ -384,13 +446,28 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 		       "See:<br><i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i><br>"
 		       "<b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b><br>"
 		       "ACM Transactions on Graphics 25(3) (SIGGRAPH 2006), pages 560-568.";
+	case FP_SYMMETRIZATION:
+		return "Detects the partial and approximate symmetries of the current mesh (with the parameters of "
+		       "<i>Detect Partial and Approximate Symmetries</i>), then moves the vertices of each approximately "
+		       "symmetric pair of patches towards their exactly symmetric average: a vertex whose image under the "
+		       "symmetry lands off the surface moves so that its image goes half-way (times <i>Strength</i>) to the "
+		       "surface, and the other side moves by the same rule under the inverse, so both meet in the middle; "
+		       "<i>Iterations</i> passes, each on the surface the previous one left. A vertex moves under the most "
+		       "significant symmetry it is in; vertices in no symmetry, and on continuous families (which have "
+		       "no single transformation), do not move. An exactly symmetric pair does not move.<br>"
+		       "<i>Returned values</i>: symmetry_count (symmetries detected), symmetrized_vertices (vertices "
+		       "moved), rms_before and rms_after (RMS deviation from perfect symmetry of those vertices, fraction "
+		       "of the diagonal, before and after).<br>"
+		       "Symmetrization is named as future work in: <i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i>, "
+		       "<b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b>, SIGGRAPH 2006; see also "
+		       "Mitra, Guibas, Pauly, \"Symmetrization\", SIGGRAPH 2007.";
 	default: assert(0); return QString();
 	}
 }
 
-FilterPlugin::FilterClass FilterSymmetryPlugin::getClass(const QAction*) const
+FilterPlugin::FilterClass FilterSymmetryPlugin::getClass(const QAction* action) const
 {
-	return FilterPlugin::Measure;
+	return ID(action) == FP_SYMMETRIZATION ? FilterPlugin::Smoothing : FilterPlugin::Measure;
 }
 
 FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction*) const
@@ -406,8 +483,10 @@ int FilterSymmetryPlugin::getPreConditions(const QAction*) const
 	return MeshModel::MM_NONE;
 }
 
-int FilterSymmetryPlugin::postCondition(const QAction*) const
+int FilterSymmetryPlugin::postCondition(const QAction* action) const
 {
+	if (ID(action) == FP_SYMMETRIZATION)
+		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
 	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
 }
 
@@ -417,6 +496,10 @@ RichParameterList FilterSymmetryPlugin::initParameterList(const QAction* action,
 	switch (ID(action)) {
 	case FP_PARTIAL_SYMMETRIES:
 		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), m.cm.bbox.Diag(), true, parameters);
+		break;
+	case FP_SYMMETRIZATION:
+		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), m.cm.bbox.Diag(), std::nullopt, parameters);
+		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
 		break;
 	default: wrongActionCalled(action);
 	}
@@ -429,6 +512,7 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::applyFilter(
 {
 	switch (ID(action)) {
 	case FP_PARTIAL_SYMMETRIES: return detectPartialSymmetries(md, parameters, cb);
+	case FP_SYMMETRIZATION: return symmetrize(md, parameters, cb);
 	default: wrongActionCalled(action);
 	}
 	return {};
@@ -442,45 +526,10 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 		throw MLException("There is no current mesh to detect symmetries on.");
 	CMeshO& m = input->cm;
 
-	HostMesh host;
-	symmetry::DetectionOptions options;
-	symmetry::DetectionResult result;
-	try {
-		// The host turned the percentages into lengths with this diagonal; undo it the same way.
-		const double diagonal = m.bbox.IsNull() ? 0.0 : double(m.bbox.Diag());
-		options = symmetry_parameters::fromRichParameterList(parameters, diagonal);
-		options.validate();
-		host = copyMesh(m);
-		// The core reports on this thread only, so forwarding to MeshLab's callback is safe.
-		symmetry::Progress progress = [cb](int percent, const char* stage) {
-			if (cb != nullptr)
-				cb(std::clamp(percent, 0, 100), stage);
-		};
-		result = symmetry::detect_partial_symmetries(host.V, host.F, options, progress);
-		checkResult(result, host.V.rows(), options);
-	}
-	catch (const symmetry::InputError& e) {
-		throw MLException(QString::fromStdString(e.what()));
-	}
-	catch (const MLException&) {
-		throw;
-	}
-	catch (const std::bad_alloc&) {
-		throw MLException(
-			"Symmetry detection ran out of memory. The mesh was left unchanged; try fewer samples "
-			"(sample_count, pair_sample_count).");
-	}
-	catch (const std::exception& e) {
-		throw MLException(
-			QString("Symmetry detection failed because of an internal error (%1). The mesh was left unchanged; "
-			        "please report this with the mesh and the parameters used.")
-				.arg(QString::fromLocal8Bit(e.what())));
-	}
-	catch (...) {
-		throw MLException(
-			"Symmetry detection failed because of an unknown internal error. The mesh was left unchanged; "
-			"please report this with the mesh and the parameters used.");
-	}
+	Detection detection = runDetection(m, parameters, cb, 100);
+	const HostMesh& host = detection.host;
+	const symmetry::DetectionOptions& options = detection.options;
+	const symmetry::DetectionResult& result = detection.result;
 
 	// Detection succeeded: from here on the document is written.
 	std::vector<int> layerIds(2 * result.symmetries.size(), -1);
@@ -553,6 +602,45 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 	    result.seconds_verification);
 
 	return outputValues(result, options, layerIds);
+}
+
+std::map<std::string, QVariant> FilterSymmetryPlugin::symmetrize(
+	MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* input = md.mm();
+	if (input == nullptr)
+		throw MLException("There is no current mesh to symmetrize.");
+	CMeshO& m = input->cm;
+	// Its own parameters first: a wrong strength is said before minutes of detection.
+	const symmetry::SymmetrizationOptions options = symmetry_parameters::symmetrizationOptions(parameters);
+	callCore("Symmetrization", [&] { options.validate(); });
+	const Detection detection = runDetection(m, parameters, cb, 80);
+	symmetry::SymmetrizationResult moved;
+	callCore("Symmetrization", [&] {
+		if (cb != nullptr)
+			cb(80, "Symmetrization");
+		moved = symmetry::symmetrize(detection.host.V, detection.host.F, detection.result,
+		                             detection.options.verification_tolerance, options);
+	});
+
+	// Symmetrization succeeded: from here on the mesh is written.
+	const HostMesh& host = detection.host;
+	for (Eigen::Index row = 0; row < host.V.rows(); ++row)
+		if (moved.V.row(row) != host.V.row(row))
+			host.vertexOfRow[size_t(row)]->P() =
+				Point3m(Scalarm(moved.V(row, 0)), Scalarm(moved.V(row, 1)), Scalarm(moved.V(row, 2)));
+	vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(m);
+	vcg::tri::UpdateBounding<CMeshO>::Box(m);
+	log("Symmetrized %d vertices under %d symmetries: RMS deviation from perfect symmetry %.3g%% -> %.3g%% of the "
+	    "diagonal (strength %.2f, %d passes).",
+	    moved.moved_vertices, int(detection.result.symmetries.size()), 100 * moved.rms_before, 100 * moved.rms_after,
+	    options.strength, options.iterations);
+	std::map<std::string, QVariant> out;
+	out["symmetry_count"] = QVariant(int(detection.result.symmetries.size()));
+	out["symmetrized_vertices"] = QVariant(moved.moved_vertices);
+	out["rms_before"] = QVariant(moved.rms_before);
+	out["rms_after"] = QVariant(moved.rms_after);
+	return out;
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterSymmetryPlugin)

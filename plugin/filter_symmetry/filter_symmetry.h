@@ -14,15 +14,16 @@ class FilterSymmetryPlugin : public QObject, public FilterPlugin
 	Q_INTERFACES(FilterPlugin)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION };
 
 	FilterSymmetryPlugin();
 
 	/// "FilterSymmetry".
 	QString pluginName() const override;
-	/// The menu entry, "Detect Partial and Approximate Symmetries".
+	/// The menu entries, "Detect Partial and Approximate Symmetries" and "Symmetrize
+	/// Approximate Symmetries".
 	QString filterName(ActionIDType filter) const override;
-	/// compute_partial_symmetries: public API, never rename.
+	/// compute_partial_symmetries, apply_coord_symmetrization: public API, never rename.
 	QString pythonFilterName(ActionIDType filter) const override;
 	/// Paper reference and the meaning of every output.
 	QString filterInfo(ActionIDType filter) const override;
@@ -31,7 +32,8 @@ public:
 	FilterArity filterArity(const QAction* action) const override;
 	/// None: the core itself refuses what it cannot analyse, saying what to do (a point cloud).
 	int getPreConditions(const QAction* action) const override;
-	/// Vertex quality and colour; new layers are added but never modified afterwards.
+	/// Detection: vertex quality and colour (new layers are added but never modified
+	/// afterwards).  Symmetrization: vertex positions and normals.
 	int postCondition(const QAction* action) const override;
 	/// The parameters in their public order, defaults from symmetry::DetectionOptions.
 	RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
@@ -47,5 +49,9 @@ private:
 	/// Runs the core on the current mesh and, only once it has succeeded, writes the
 	/// outputs.  Every failure becomes an MLException and leaves the document unchanged.
 	std::map<std::string, QVariant> detectPartialSymmetries(
+		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+	/// Detects, then moves each approximately symmetric patch pair towards its exactly
+	/// symmetric average (core/symmetrization.h).  The mesh is changed only on success.
+	std::map<std::string, QVariant> symmetrize(
 		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 };

@@ -24,7 +24,7 @@ bool usableDiagonal(double diagonal)
 
 }  // namespace
 
-void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, bool createPatchLayers,
+void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, std::optional<bool> createPatchLayers,
                          RichParameterList& parameters)
 {
 	// A dialog opened on an empty mesh still needs a scale for its percentages.
@@ -102,10 +102,11 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, b
 		"basis_tolerance", o.basis_tolerance * d, 0, d, "Basis tolerance",
 		"The paper's delta (Algorithm 1): a symmetry within this distance of a product of generators, in "
 		"transformation space, is a compound of them rather than a new generator."));
-	parameters.addParam(RichBool(
-		"create_patch_layers", createPatchLayers, "Create patch layers",
-		"For symmetry k, add the layers symmetry_k_source and symmetry_k_target holding the two patches "
-		"it maps onto each other. The current mesh stays the input mesh."));
+	if (createPatchLayers)
+		parameters.addParam(RichBool(
+			"create_patch_layers", *createPatchLayers, "Create patch layers",
+			"For symmetry k, add the layers symmetry_k_source and symmetry_k_target holding the two patches "
+			"it maps onto each other. The current mesh stays the input mesh."));
 	parameters.addParam(RichInt(
 		"random_seed", int(o.random_seed), "Random seed",
 		"Seed of every random choice (sampling, paired subset). The result is a deterministic function of "
@@ -141,6 +142,29 @@ symmetry::DetectionOptions fromRichParameterList(const RichParameterList& p, dou
 bool createPatchLayers(const RichParameterList& p)
 {
 	return p.getBool("create_patch_layers");
+}
+
+}  // namespace symmetry_parameters
+
+namespace symmetry_parameters {
+
+void appendSymmetrizationParameters(const symmetry::SymmetrizationOptions& o, RichParameterList& parameters)
+{
+	parameters.addParam(RichFloat(
+		"strength", o.strength, "Strength",
+		"Fraction of the way to the exactly symmetric average each vertex moves in a pass, from 0 (no change) to 1 "
+		"(both sides of each detected symmetry meet at their average)."));
+	parameters.addParam(RichInt(
+		"symmetrization_iterations", o.iterations, "Iterations",
+		"Passes of the move, each measured on the surface the previous one left (1 to 100)."));
+}
+
+symmetry::SymmetrizationOptions symmetrizationOptions(const RichParameterList& p)
+{
+	symmetry::SymmetrizationOptions o;
+	o.strength = p.getFloat("strength");
+	o.iterations = p.getInt("symmetrization_iterations");
+	return o;
 }
 
 }  // namespace symmetry_parameters

@@ -4,6 +4,9 @@
 #pragma once
 
 #include <core/detection.h>
+#include <core/symmetrization.h>
+
+#include <optional>
 
 #include <common/parameters/rich_parameter_list.h>
 
@@ -11,11 +14,12 @@ namespace symmetry_parameters {
 
 /// Appends the filter's parameters, in their public order, to `parameters`, with the
 /// values of `options` as defaults.  `createPatchLayers` is the one parameter the core
-/// does not see: it only tells the adapter whether to write the patches as layers.  Lengths the core takes as fractions of the
+/// does not see: it only tells the adapter whether to write the patches as layers (no such
+/// parameter when it is empty: the symmetrization filter writes none).  Lengths the core takes as fractions of the
 /// bounding-box diagonal become RichPercentage values; `diagonal` is the diagonal of
 /// the mesh the dialog is opened on (the absolute value a percentage stands for).
-void toRichParameterList(const symmetry::DetectionOptions& options, double diagonal, bool createPatchLayers,
-                         RichParameterList& parameters);
+void toRichParameterList(const symmetry::DetectionOptions& options, double diagonal,
+                         std::optional<bool> createPatchLayers, RichParameterList& parameters);
 
 /// Reads the parameters back into the core's units: percentages of the diagonal become
 /// fractions of `diagonal`, the patch area in percent becomes a fraction.  No range check
@@ -27,5 +31,10 @@ symmetry::DetectionOptions fromRichParameterList(const RichParameterList& parame
 
 /// The value of create_patch_layers.
 bool createPatchLayers(const RichParameterList& parameters);
+
+/// The symmetrization filter's own parameters (strength, symmetrization_iterations),
+/// appended after the detection parameters, and read back.
+void appendSymmetrizationParameters(const symmetry::SymmetrizationOptions& options, RichParameterList& parameters);
+symmetry::SymmetrizationOptions symmetrizationOptions(const RichParameterList& parameters);
 
 }  // namespace symmetry_parameters

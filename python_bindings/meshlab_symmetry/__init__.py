@@ -17,6 +17,8 @@ import os
 import pymeshlab
 
 FILTER_NAME = "compute_partial_symmetries"
+#: the plugin's second filter (issue 9): detection, then the approximate symmetries made exact
+SYMMETRIZATION_FILTER_NAME = "apply_coord_symmetrization"
 # MESHLAB_SYMMETRY_PLUGIN loads another build of the plugin instead (make test-sanitize
 # loads the sanitized one).
 _PLUGIN_FILE = (os.environ.get("MESHLAB_SYMMETRY_PLUGIN")
@@ -34,7 +36,8 @@ def _load_plugin():
             f"The symmetry plugin is not built ({_PLUGIN_FILE} is missing). "
             "Run `make` at the top of the meshlab-symmetry repository.")
     pymeshlab.load_plugin(_PLUGIN_FILE)
-    setattr(pymeshlab.MeshSet, FILTER_NAME, pymeshlab.bind_function(FILTER_NAME))
+    for name in (FILTER_NAME, SYMMETRIZATION_FILTER_NAME):
+        setattr(pymeshlab.MeshSet, name, pymeshlab.bind_function(name))
 
 
 _load_plugin()
@@ -48,7 +51,7 @@ from .api import detect  # noqa: E402
 _PICTURES = ("deviation_picture", "patches_picture", "transformation_space_picture", "sample_size_curve",
              "report_html")
 
-__all__ = ["FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json",
+__all__ = ["FILTER_NAME", "SYMMETRIZATION_FILTER_NAME", "plugin_path", "detect_symmetries", "symmetry_graph", "to_json",
            "detect", "SymmetryResult", "Symmetry", "Plane", "Axis", *_PICTURES]
 
 

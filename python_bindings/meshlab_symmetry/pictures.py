@@ -24,7 +24,7 @@ import html
 import os
 import sys
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 import pymeshlab
@@ -177,22 +177,25 @@ def deviation_scale(result: SymmetryResult) -> float:
 
 
 def deviation_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
-                      view: tuple[float, float] = (20.0, -60.0)) -> Picture:
+                      view: tuple[float, float] = (20.0, -60.0), scale: Optional[float] = None,
+                      title: Optional[str] = None) -> Picture:
     """The mesh coloured by the signed deviation from perfect symmetry, ``result.deviation``
     (the distance of each vertex's image from the surface under the most significant symmetry
     it is in, as a fraction of the diagonal; the paper's Figure 1), on a diverging colour map
     symmetric about 0 (blue below, red above, white at 0) with a colour bar in percent of
     the diagonal; faces whose vertices are mostly in no symmetry are dark grey.  ``mesh`` is
-    the mesh detect was run on, in any form detect takes."""
+    the mesh detect was run on, in any form detect takes.  ``scale`` fixes half the colour
+    scale's width (fraction of the diagonal; default deviation_scale), so that pictures of
+    two results compare; ``title`` replaces the default title."""
     drawn = _drawn_mesh(mesh, result)
-    scale = deviation_scale(result)
+    scale = deviation_scale(result) if scale is None else scale
     norm = Normalize(-100 * scale, 100 * scale)
     colours = ScalarMappable(norm=norm, cmap="RdBu_r")
     value = drawn.face_values(result.deviation).mean(axis=1)
     in_symmetry = (drawn.face_values(result.symmetry_id) >= 0).mean(axis=1) >= 0.5
     rgb = np.where(in_symmetry[:, None], colours.to_rgba(100 * value)[:, :3], NO_SYMMETRY_GREY)
     triangles = drawn.vertices[drawn.faces]
-    fig = _new_figure(f"Deviation from perfect symmetry ({_count(result)})")
+    fig = _new_figure(title or f"Deviation from perfect symmetry ({_count(result)})")
     ax = _mesh_axes(fig, drawn.vertices, view)
     _add_surface(ax, triangles, np.hstack([_shaded(rgb, triangles, view), np.ones((len(rgb), 1))]))
     bar = fig.colorbar(colours, cax=fig.add_axes((0.72, 0.2, 0.03, 0.6)), extend="both")

@@ -62,6 +62,23 @@ def mirror_symmetric_mesh(subdivisions=4):
     return u * r[:, None], F
 
 
+def noisy_mirror_mesh(sigma=0.002, bump=0.0):
+    """mirror_symmetric_mesh(4) made approximate: normal noise of sigma (fraction of the
+    diagonal) on its x > 0 half, and optionally a bump of that height (fraction of the
+    radius) there, which has no mirror image.  Deterministic."""
+    V, F = mirror_symmetric_mesh(4)
+    unit = V / np.linalg.norm(V, axis=1, keepdims=True)
+    rng = np.random.default_rng(0)
+    right = V[:, 0] > 0
+    diagonal = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
+    W = V.copy()
+    W[right] += unit[right] * rng.normal(0.0, sigma * diagonal, (int(right.sum()), 1))
+    if bump:
+        centre = np.array([0.6, 0.0, 0.8])
+        W += unit * (bump * np.exp(-np.sum((unit - centre) ** 2, axis=1) / 0.05))[:, None]
+    return W, F
+
+
 def mesh_snapshot(ms):
     """Everything about the document a failed call must not change."""
     m = ms.current_mesh()

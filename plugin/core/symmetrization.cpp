@@ -1,0 +1,128 @@
+#include "symmetrization.h"
+
+#include "surface_query.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace symmetry {
+namespace {
+
+void check(const Eigen::MatrixX3d& V, const DetectionResult& detected) {
+    if (Eigen::Index(detected.vertex_symmetry_id.size()) != V.rows())
+        throw InputError("The detection result belongs to another mesh (its vertex count differs).");
+    for (const DetectedSymmetry& s : detected.symmetries)
+        for (const std::vector<int>* patch : {&s.source_vertices, &s.target_vertices})
+            for (int v : *patch)
+                if (v < 0 || Eigen::Index(v) >= V.rows())
+                    throw InputError("The detection result belongs to another mesh (a patch vertex is out of range).");
+}
+
+// Per vertex: the discrete symmetry it moves under, and whether it is in that symmetry's
+// source patch, its target patch or both.
+struct Membership {
+    std::vector<int> symmetry;  // -1: does not move
+    std::vector<char> in_source, in_target;
+};
+
+Membership membership(const DetectionResult& detected, Eigen::Index rows) {
+    Membership m{std::vector<int>(size_t(rows), -1), std::vector<char>(size_t(rows), 0),
+                 std::vector<char>(size_t(rows), 0)};
+    for (size_t k = 0; k < detected.symmetries.size(); ++k) {
+        const DetectedSymmetry& s = detected.symmetries[k];
+        if (s.continuous_kind != ContinuousKind::Discrete) continue;
+        for (int v : s.source_vertices)
+            if (detected.vertex_symmetry_id[size_t(v)] == int(k)) m.in_source[size_t(v)] = 1;
+        for (int v : s.target_vertices)
+            if (detected.vertex_symmetry_id[size_t(v)] == int(k)) m.in_target[size_t(v)] = 1;
+    }
+    for (size_t v = 0; v < m.symmetry.size(); ++v)
+        if (m.in_source[v] || m.in_target[v]) m.symmetry[v] = detected.vertex_symmetry_id[v];
+    return m;
+}
+
+// One Jacobi pass: every displacement measured on the surface (V, F), then applied.
+// Returns the RMS deviation (absolute units) of the vertices that found their image's
+// surface, measured before the move, and counts them.
+double symmetrization_pass(Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionResult& detected,
+                           const Membership& m, double max_distance, double strength, int& moved) {
+    Mesh mesh;
+    std::vector<int> vertex_of_input;
+    build_mesh(V, F, mesh, vertex_of_input);
+    const SurfaceQuery surface(mesh, 8);
+    Eigen::MatrixX3d displacement = Eigen::MatrixX3d::Zero(V.rows(), 3);
+    double squares = 0;
+    std::vector<Eigen::Index> moving;
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+        const int k = m.symmetry[size_t(v)];
+        if (k < 0) continue;
+        const Transformation& T = detected.symmetries[size_t(k)].transform;
+        const Eigen::Vector3d p = V.row(v).transpose();
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        int rules = 0;
+        // Source side: T(p) half-way to the surface it lands on, pulled back by T⁻¹;
+        // target side the same under T⁻¹ (whose distances are divided by the scale).
+        for (const bool source : {true, false}) {
+            if (!(source ? m.in_source : m.in_target)[size_t(v)]) continue;
+            const Transformation map = source ? T : T.inverse();
+            const Eigen::Vector3d image = map.apply(p);
+            const ClosestPoint c = surface.closest(image, source ? max_distance : max_distance / T.scale);
+            if (!c.found) continue;
+            const Eigen::Vector3d goal = (source ? T.inverse() : T).apply(0.5 * (image + c.point));
+            sum += goal - p;
+            squares += std::pow(source ? c.distance : c.distance * T.scale, 2);
+            ++rules;
+        }
+        if (rules == 0) continue;
+        displacement.row(v) = strength * sum.transpose() / rules;
+        moving.push_back(v);
+    }
+    // Only the vertices that move are written: adding a zero would turn a -0 into +0.
+    for (Eigen::Index v : moving) V.row(v) += displacement.row(v);
+    moved = int(moving.size());
+    return moved ? std::sqrt(squares / moved) : 0;  // (a vertex in both patches counts twice in squares)
+}
+
+}  // namespace
+
+void SymmetrizationOptions::validate() const {
+    auto text = [](double value) {
+        std::ostringstream out;
+        out << value;
+        return out.str();
+    };
+    if (!(strength >= 0 && strength <= 1))
+        throw InputError("strength is " + text(strength) + ", but it must be between 0 and 1.");
+    if (iterations < 1 || iterations > 100)
+        throw InputError("symmetrization_iterations is " + text(iterations) + ", but it must be between 1 and 100.");
+    if (!(max_distance_in_tolerances > 0))
+        throw InputError("max_distance_in_tolerances must be greater than 0.");
+}
+
+SymmetrizationResult symmetrize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionResult& detected,
+                                double verification_tolerance, const SymmetrizationOptions& options) {
+    options.validate();
+    check(V, detected);
+    const Membership m = membership(detected, V.rows());
+    const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+    const double max_distance = options.max_distance_in_tolerances * verification_tolerance * diagonal;
+    SymmetrizationResult out;
+    out.V = V;
+    for (int pass = 0; pass < options.iterations; ++pass) {
+        int moved = 0;
+        const double rms = symmetrization_pass(out.V, F, detected, m, max_distance, options.strength, moved);
+        if (pass == 0) {
+            out.rms_before = rms / diagonal;
+            out.moved_vertices = options.strength > 0 ? moved : 0;
+        }
+    }
+    // The deviation left: a pass of strength 0 measures without moving.
+    int measured = 0;
+    Eigen::MatrixX3d after = out.V;
+    out.rms_after = symmetrization_pass(after, F, detected, m, max_distance, 0, measured) / diagonal;
+    return out;
+}
+
+}  // namespace symmetry
