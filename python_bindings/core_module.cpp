@@ -42,6 +42,7 @@ DetectionOptions options_from(const py::dict& given) {
         else if (name == "basis_tolerance") o.basis_tolerance = value.cast<double>();
         // As the filter does: any int is a valid seed, negative ones wrap.
         else if (name == "random_seed") o.random_seed = unsigned(value.cast<long long>());
+        else if (name == "keep_transformation_space") o.keep_transformation_space = value.cast<bool>();
         else throw py::value_error("detect() has no parameter '" + name + "'");
     }
     return o;
@@ -116,6 +117,17 @@ py::dict detect(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const py::
                               py::arg("seconds_clustering") = r.seconds_clustering,
                               py::arg("seconds_verification") = r.seconds_verification);
     out["work"] = work_dict(r);
+    if (options.keep_transformation_space) {
+        const TransformationSpaceSnapshot& g = r.transformation_space;
+        py::dict gamma;
+        gamma["points"] = g.points;
+        gamma["improper"] = std::vector<bool>(g.improper.begin(), g.improper.end());
+        gamma["modes"] = g.modes;
+        gamma["mode_heights"] = g.mode_heights;
+        gamma["mode_improper"] = std::vector<bool>(g.mode_improper.begin(), g.mode_improper.end());
+        gamma["symmetries"] = g.symmetries;
+        out["transformation_space"] = gamma;
+    }
     return out;
 }
 

@@ -757,6 +757,29 @@ private:
     int skipped_members_ = 0;
 };
 
+// Rows of Γ's coordinates, one per transformation (DetectionOptions::keep_transformation_space).
+Eigen::MatrixXd coordinates_of(const std::vector<Transformation>& transformations, const TransformationSpace& space) {
+    Eigen::MatrixXd rows(Eigen::Index(transformations.size()), TransformationSpace::kDimension);
+    for (size_t i = 0; i < transformations.size(); ++i) rows.row(Eigen::Index(i)) = space.coordinates(transformations[i]).transpose();
+    return rows;
+}
+
+void keep_modes(const std::vector<Candidate>& candidates, const TransformationSpace& space,
+                TransformationSpaceSnapshot& kept) {
+    std::vector<Transformation> modes;
+    for (const Candidate& c : candidates) {
+        modes.push_back(c.transform);
+        kept.mode_heights.push_back(c.height);
+        kept.mode_improper.push_back(c.transform.reflection);
+    }
+    kept.modes = coordinates_of(modes, space);
+}
+
+void keep_points(const Votes& votes, const TransformationSpace& space, TransformationSpaceSnapshot& kept) {
+    kept.points = coordinates_of(votes.points, space);
+    for (const Transformation& t : votes.points) kept.improper.push_back(t.reflection);
+}
+
 // §3.1 and §4 together.  At most max_verified clusters are verified; each sheet of Γ
 // offers up to four times as many modes (merges and repeats of T⁻¹ use up some).  When a
 // continuous family is found, its members' votes leave Γ and the clusters are found again:
@@ -771,6 +794,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     Clustering clustering(votes, space, options, max_modes);
     std::vector<Candidate> candidates = clustering.candidates(active);
     result.clusters = int(candidates.size());
+    if (options.keep_transformation_space) keep_modes(candidates, space, result.transformation_space);
     result.seconds_clustering = seconds_since(start);
 
     report(60, "Verification by region growing");
@@ -1005,6 +1029,7 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     prepare_model(V, F, options, report, model, result);
     const Votes votes = vote(model, options, rng, result);
     const TransformationSpace space(model.center, model.diagonal);
+    if (options.keep_transformation_space) keep_points(votes, space, result.transformation_space);
 
     // §3.1 and §4: clusters verified most votes first, with the continuous families beside.
     report(45, "Mean-shift clustering in transformation space");
@@ -1083,6 +1108,11 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
             ++discrete_index;
         }
         result.symmetries.push_back(std::move(d));
+    }
+    if (options.keep_transformation_space) {
+        std::vector<Transformation> reported_transforms;
+        for (const DetectedSymmetry& d : result.symmetries) reported_transforms.push_back(d.transform);
+        result.transformation_space.symmetries = coordinates_of(reported_transforms, space);
     }
     write_to_welded_rows(model, result);
     report(100, "Done");

@@ -63,6 +63,9 @@ struct DetectionOptions {
     int basis_loop_length = 3;          ///< η of Algorithm 1
     double basis_tolerance = 0.02;      ///< δ of Algorithm 1, fraction of the diagonal in Γ's metric
     unsigned random_seed = 0;           ///< the whole run is a function of this seed
+    /// An output switch, not a tunable: keep Γ in DetectionResult::transformation_space
+    /// (13 numbers per point of Γ; pictures of §3, the paper's Figure 7(b)).
+    bool keep_transformation_space = false;
 
     // Tunables of the stages, with their units in their own structs.
     WorkingMeshOptions working;               ///< the resolution large inputs are analysed at
@@ -100,6 +103,20 @@ struct DetectedSymmetry {
     Word word;                            ///< this transformation in the generators; empty for a family
 };
 
+/// Γ as the detector saw it (§3, the paper's Figure 7(b)), kept on request
+/// (DetectionOptions::keep_transformation_space).  Points are rows of their
+/// TransformationSpace::coordinates, in which Euclidean distance is Γ's metric (fractions of
+/// the diagonal); proper and improper transformations are its two sheets (the coordinates
+/// hold the rotation, not the mirror, so the sheet is given beside them).
+struct TransformationSpaceSnapshot {
+    Eigen::MatrixXd points;         ///< one row per point of Γ (a pair's transformation)
+    std::vector<char> improper;     ///< per point: a reflection, rotoreflection or glide
+    Eigen::MatrixXd modes;          ///< the clusters of the first mean shift, most votes first
+    std::vector<int> mode_heights;  ///< ...their votes
+    std::vector<char> mode_improper;  ///< ...and their sheet
+    Eigen::MatrixXd symmetries;     ///< the reported symmetries, in result order
+};
+
 struct DetectionResult {
     std::vector<DetectedSymmetry> symmetries;  ///< most significant first
     int generator_count = 0;
@@ -127,6 +144,7 @@ struct DetectionResult {
     int rigid_pair_sample_count = 0;
     double partners_per_sample = 0;  ///< μ: points in Γ per paired sample, measured on a pilot
     double seconds_signatures = 0, seconds_pairing = 0, seconds_clustering = 0, seconds_verification = 0;
+    TransformationSpaceSnapshot transformation_space;  ///< empty unless asked for
 };
 
 /// Called with a percentage (0..100) and the stage's name.  Always on the calling thread,

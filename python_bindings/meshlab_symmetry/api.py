@@ -396,7 +396,8 @@ def _detect_with_core(ms: pymeshlab.MeshSet, parameters: dict[str, Any],
     faces = np.ascontiguousarray(mesh.face_matrix(), dtype=np.int32)
     box = mesh.bounding_box()
     diagonal, centre = float(box.diagonal()), np.asarray(box.center(), dtype=np.float64)
-    raw = _core.detect(vertices, faces, {p.name: parameters[p.name] for p in PARAMETERS}, progress)
+    options = {p.name: parameters[p.name] for p in PARAMETERS}
+    raw = _core.detect(vertices, faces, {**options, "keep_transformation_space": True}, progress)
     symmetries, edges = [], []
     for k, d in enumerate(raw["symmetries"]):
         word = [int(letter) for letter in d["word"]]
@@ -427,4 +428,5 @@ def _detect_with_core(ms: pymeshlab.MeshSet, parameters: dict[str, Any],
         work=dict(raw["work"]),
         parameters=dict(parameters),
         vertex_count=len(vertices),
-        diagonal=diagonal)
+        diagonal=diagonal,
+        transformation_space={key: np.asarray(value) for key, value in raw["transformation_space"].items()})

@@ -10,24 +10,21 @@ convex parts that make up most models and may misorder faces of deep concavities
 
 - :func:`deviation_picture`: the signed deviation from perfect symmetry (the paper's Figure 1);
 - :func:`patches_picture`: the symmetric patches, mirror planes, rotation axes, translations;
-- :func:`transformation_space_picture`: the reflections of sample pairs projected to 2-D by
-  multidimensional scaling (the paper's Figure 7(b)), computed here in Python as an
-  illustration of §3, not the detector's own transformation space;
+- :func:`transformation_space_picture`: the detector's own transformation space Γ, its two
+  sheets projected to 2-D by multidimensional scaling (the paper's Figure 7(b));
+- :func:`sample_size_curve`: symmetries found against the size of P' (the paper's Figure 5);
 - :func:`report_html`: the three pictures and a table of the symmetries in one HTML page.
 
 Each picture function writes a PNG of PICTURE_SIZE pixels and returns a :class:`Picture`.
 """
 from __future__ import annotations
 
-import contextlib
 import html
 import os
-import sys
 from dataclasses import dataclass
 from typing import Any, Optional, Sequence
 
 import numpy as np
-import pymeshlab
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize, to_rgb
 from matplotlib.figure import Figure
@@ -37,7 +34,7 @@ from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from scipy.spatial import cKDTree
 
 from .api import MeshInput, _private_meshset, detect
-from .geometry import canonical_sign
+from .geometry import FAMILY_KINDS
 from .result import Symmetry, SymmetryResult
 
 #: a mesh with more faces is drawn from a simplified copy (mplot3d draws ~20k faces in seconds)
@@ -346,123 +343,84 @@ def patches_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
     return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
 
 
-# --- c. transformation space (an illustration of §3, computed here) ----------------------------------
+# --- c. transformation space: the detector's own Γ (§3) ----------------------------------------------
 
-@dataclass
-class PairReflections:
-    """The reflections of sample pairs: ``points`` (n x 6, each pair's embedding, see
-    reflection_embedding, about ``centre``, the input's bounding-box centre), ``samples`` (how
-    many were taken), ``kept`` (after umbilic pruning) and ``pairs`` (the pairs kept)."""
-    points: np.ndarray
-    centre: np.ndarray
-    samples: int
-    kept: int
-    pairs: int
-
-
-def reflection_embedding(normals: np.ndarray, offsets: np.ndarray, centre: np.ndarray,
-                         diagonal: float) -> np.ndarray:
-    """The planes n.x = d as points of R^6, in fractions of the diagonal: the normal, its sign
-    fixed (canonical_sign), times 1/2 (as §3 weighs a half turn like half the diagonal), then
-    the plane's point nearest the bounding-box centre, relative to it.  Euclidean distance
-    there is a metric on mirror planes in which both a tilt and a shift count."""
-    rows = []
-    for n, d in zip(normals, offsets):
-        fixed = canonical_sign(n)
-        d = d if fixed @ n > 0 else -d
-        rows.append(np.concatenate([0.5 * fixed, -fixed * (fixed @ centre - d) / diagonal]))
-    return np.array(rows).reshape(-1, 6)
+def detector_transformation_space(mesh: MeshInput, result: SymmetryResult) -> dict[str, np.ndarray]:
+    """The detector's own transformation space Γ for this result: the one detect(...,
+    engine="core") kept on the result, else the core run again on the mesh with the result's
+    parameters and seed (the same run, so the same Γ).  A dict: ``points`` (n x 13, each pair's
+    transformation in Γ's coordinates, where Euclidean distance is Γ's metric in fractions
+    of the diagonal), ``improper`` (n, reflections), ``modes``, ``mode_heights`` and
+    ``mode_improper`` (the clusters of the first mean shift), ``symmetries`` (the reported
+    ones, in result order)."""
+    if result.transformation_space is not None:
+        return result.transformation_space
+    return detect(mesh, engine="core", **result.parameters).transformation_space
 
 
-@contextlib.contextmanager
-def _quiet_stdout():
-    """File descriptor 1 pointed at /dev/null for the block: C++ code writes there directly,
-    past sys.stdout."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    try:
-        with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 1)
-            yield
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
+def _draw_sheet(ax, fig, points: np.ndarray, modes: np.ndarray, heights: np.ndarray, stars: np.ndarray,
+                starred: list[Symmetry], colour_bar_box) -> list:
+    """One sheet of Γ on `ax`: its points' density (hexagonal bins, log scale), its 30 highest
+    modes as circles sized by their votes, the reported symmetries on it as stars in their
+    patches_picture colours, all projected together by classical_mds."""
+    handles = []
+    if len(points) + len(modes) + len(stars) < 3:
+        ax.text(0.5, 0.5, "no points on this sheet", ha="center", transform=ax.transAxes)
+        return handles
+    xy = classical_mds(np.vstack([points, modes, stars]))
+    pts, mds, sts = xy[:len(points)], xy[len(points):len(points) + len(modes)], xy[len(points) + len(modes):]
+    if len(pts):
+        bins = ax.hexbin(pts[:, 0], pts[:, 1], gridsize=40, bins="log", mincnt=1, cmap="Greys")
+        fig.colorbar(bins, cax=fig.add_axes(colour_bar_box), label="points of Γ per bin")
+    if len(mds):
+        ax.scatter(mds[:, 0], mds[:, 1], s=20 + 200 * heights / max(1, heights.max()), facecolors="none",
+                   edgecolors="#b2182b", linewidths=1.2, zorder=2)
+    for s, (x, y) in zip(starred, sts):
+        handles.append(ax.scatter([x], [y], marker="*", s=320, color=PALETTE[s.index % COLOURED_SYMMETRIES],
+                                  edgecolors="black", label=symmetry_label(s), zorder=3))
+    ax.set_xlabel("MDS coordinate 1 (fraction of the diagonal)")
+    ax.set_ylabel("MDS coordinate 2")
+    return handles
 
 
-def _principal_curvatures(ms: pymeshlab.MeshSet, radius: float) -> np.ndarray:
-    """Per vertex of the current mesh (#V x 2, k1 <= k2): the principal curvatures by
-    MeshLab's scale-dependent quadric fitting over a ball of ``radius`` (fraction of the
-    diagonal), which pymeshlab hands out only through the vertex quality, one at a time."""
-    values = []
-    for which in ("Min Curvature", "Max Curvature"):
-        with _quiet_stdout():  # MeshLab prints the average fit size to the process's stdout
-            ms.compute_curvature_principal_directions_per_vertex(
-                method="Scale Dependent Quadric Fitting", curvcolormethod=which,
-                scale=pymeshlab.PercentageValue(100 * radius))
-        values.append(ms.current_mesh().vertex_scalar_array().copy())
-    return np.sort(np.column_stack(values), axis=1)
-
-
-def _samples(ms: pymeshlab.MeshSet, count: int) -> np.ndarray:
-    """Indices of about ``count`` vertices of the current mesh spread evenly over the surface
-    (Poisson-disk subsampling of the vertices themselves, so each keeps its curvature)."""
-    mesh_id = ms.current_mesh_id()
-    vertices = ms.current_mesh().vertex_matrix()
-    ms.generate_sampling_poisson_disk(samplenum=count, subsample=True)
-    chosen = ms.current_mesh().vertex_matrix().copy()
-    ms.set_current_mesh(mesh_id)
-    return np.unique(cKDTree(vertices).query(chosen)[1])
-
-
-def _pruned_samples(ms: pymeshlab.MeshSet, result: SymmetryResult, count: int):
-    """(points, unit normals, signatures (k1 r, k2 r), samples taken) of about ``count``
-    samples of the current mesh, the nearly umbilic ones (|k_small / k_large| at least the
-    result's umbilic_ratio, §2.1) left out; r is the curvature radius the detector used."""
-    ms.compute_normal_per_vertex()
-    radius = float(result.work.get("curvature_radius_used") or result.parameters["curvature_radius"])
-    signatures = _principal_curvatures(ms, radius) * radius * result.diagonal
-    index = _samples(ms, count)
-    small, large = np.sort(np.abs(signatures[index]), axis=1).T
-    kept = index[(large > 1e-9) & (small < result.parameters["umbilic_ratio"] * large)]
-    mesh = ms.current_mesh()
-    normals = mesh.vertex_normal_matrix()[kept]
-    normals = normals / np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
-    return mesh.vertex_matrix()[kept], normals, signatures[kept], len(index)
-
-
-def bisecting_planes(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(unit normals, offsets) of the planes n.x = d that mirror each point of ``a`` onto the
-    point of ``b`` in its row: the paper's reflection of a pair (§2), normal along b - a,
-    through their midpoint.  The rows must be distinct points."""
-    normals = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
-    return normals, np.sum(normals * (a + b) / 2, axis=1)
-
-
-def pair_reflections(mesh: MeshInput, result: SymmetryResult, *, samples: int = 1500, paired: int = 400,
-                     max_normal_degrees: float = 20.0, seed: int = 0) -> PairReflections:
-    """The paper's §2-§3 for reflections only, in Python: about ``samples`` surface samples
-    with their principal curvatures over the ball the detector used, the umbilic ones pruned
-    (_pruned_samples); a random subset of ``paired`` of them paired with every sample whose
-    signature is within the result's signature_tolerance (§2.2); a pair kept when the mirror
-    that swaps the two points (bisecting_planes) also maps one normal onto the other within
-    ``max_normal_degrees`` (the paper's normal-based pruning, Figure 4), and when the points
-    are more than 2 % of the diagonal apart (closer ones give planes of no meaning)."""
-    ms = _private_meshset(mesh)
-    centre = np.asarray(ms.current_mesh().bounding_box().center(), dtype=np.float64)
-    if ms.current_mesh().face_number() > MAX_DRAWN_FACES:
-        ms.meshing_decimation_quadric_edge_collapse(targetfacenum=MAX_DRAWN_FACES, preservenormal=True)
-    points, normals, signatures, taken = _pruned_samples(ms, result, samples)
-    chosen = np.random.default_rng(seed).choice(len(points), size=min(paired, len(points)), replace=False)
-    partners = cKDTree(signatures).query_ball_point(signatures[chosen], result.parameters["signature_tolerance"])
-    i = np.repeat(chosen, [len(p) for p in partners]).astype(np.int64)
-    j = np.array([k for p in partners for k in p], dtype=np.int64)
-    far = np.linalg.norm(points[j] - points[i], axis=1) > 0.02 * result.diagonal
-    i, j = i[far], j[far]
-    plane_normals, offsets = bisecting_planes(points[i], points[j])
-    mirrored = normals[i] - 2 * np.sum(normals[i] * plane_normals, axis=1)[:, None] * plane_normals
-    agree = np.sum(mirrored * normals[j], axis=1) > np.cos(np.radians(max_normal_degrees))
-    embedding = reflection_embedding(plane_normals[agree], offsets[agree], centre, result.diagonal)
-    return PairReflections(embedding, centre, taken, len(points), int(agree.sum()))
+def transformation_space_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
+                                 max_points: int = 3000, shown_modes: int = 30, seed: int = 0) -> Picture:
+    """The paper's Figure 7(b) from the detector's own Γ (detector_transformation_space): its
+    two sheets side by side, rotations and translations (proper) and reflections (improper),
+    each projected to 2-D by classical multidimensional scaling of Γ's metric; at most
+    ``max_points`` points drawn at random, their density as hexagonal bins; the
+    ``shown_modes`` modes of mean shift with most votes as red circles sized by their votes;
+    the reported discrete symmetries as stars in their patches_picture colours.  A cluster
+    of votes at a star is the evidence for that symmetry."""
+    gamma = detector_transformation_space(mesh, result)
+    points, improper = np.asarray(gamma["points"]), np.asarray(gamma["improper"], dtype=bool)
+    rng = np.random.default_rng(seed)
+    drawn = np.sort(rng.choice(len(points), size=min(max_points, len(points)), replace=False))
+    modes, heights = np.asarray(gamma["modes"]).reshape(-1, 13), np.asarray(gamma["mode_heights"])
+    reported = np.asarray(gamma["symmetries"]).reshape(-1, 13)
+    fig = _new_figure("The detector's transformation space Γ, projected to 2-D (Figure 7(b))")
+    handles, boxes = [], []
+    for column, (reflections, title) in enumerate(((False, "rotations and translations"), (True, "reflections"))):
+        left = 0.07 + 0.34 * column
+        ax = fig.add_axes((left, 0.17, 0.21, 0.66))
+        ax.set_title(title, fontsize=11)
+        sheet_modes = np.flatnonzero(np.asarray(gamma["mode_improper"], dtype=bool) == reflections)
+        sheet_modes = sheet_modes[np.argsort(-heights[sheet_modes], kind="stable")][:shown_modes]
+        starred = [s for s in result.symmetries
+                   if s.kind not in FAMILY_KINDS.values() and s.is_reflection == reflections]
+        handles += _draw_sheet(ax, fig, points[drawn][improper[drawn] == reflections], modes[sheet_modes],
+                               heights[sheet_modes], reported[[s.index for s in starred]].reshape(-1, 13), starred,
+                               (left + 0.22, 0.17, 0.01, 0.66))
+        if column:
+            ax.set_ylabel("")  # the left sheet's colour bar label stands there
+        boxes.append(_plot_box(ax))
+    fig.text(0.02, 0.02, f"{len(points)} points of Γ ({len(drawn)} drawn), {len(modes)} modes of mean shift "
+             f"({shown_modes} with most votes per sheet drawn as circles); the detector's own pairs, "
+             "with Γ's metric (§3).", fontsize=8, wrap=True)
+    legend = fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.705, 0.83), fontsize=8,
+                        title="reported symmetries" if handles else "no discrete symmetry reported")
+    box = (min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes), max(b[3] for b in boxes))
+    return _save(fig, path, box, [t.get_text() for t in legend.get_texts()])
 
 
 def classical_mds(points: np.ndarray, dimensions: int = 2) -> np.ndarray:
@@ -471,53 +429,11 @@ def classical_mds(points: np.ndarray, dimensions: int = 2) -> np.ndarray:
     distances, B = -J D2 J / 2, scaled by the roots of their eigenvalues.  For Euclidean
     distances B is the Gram matrix X X^T of the centred points (Gower 1966), whose top
     eigenvectors so scaled are X times its top right singular vectors; that is computed
-    here, from an n x 6 matrix instead of the n x n one, in milliseconds, and without the
+    here, from an n x 13 matrix instead of the n x n one, in milliseconds, and without the
     multi-threaded n x n eigensolver that crawls on a machine shared with other work."""
     centred = points - points.mean(axis=0)
     _, _, right = np.linalg.svd(centred, full_matrices=False)
     return centred @ right[:dimensions].T
-
-
-def transformation_space_picture(mesh: MeshInput, result: SymmetryResult, path: str, *, samples: int = 1500,
-                                 paired: int = 400, max_points: int = 2000, seed: int = 0) -> Picture:
-    """The paper's Figure 7(b) for reflections: the mirror planes of sample pairs
-    (pair_reflections) as points of R^6 (reflection_embedding), at most ``max_points`` of
-    them drawn at random, projected to 2-D by classical multidimensional scaling, their
-    density as hexagonal bins, and the reflections the detector reported marked with stars
-    in their patches_picture colours.  A cluster of pairs at a star is the evidence for that
-    mirror.
-
-    This is an illustration of §3 computed here in Python, not the detector's own
-    transformation space Γ: the filter does not return its pairs, and it pairs with its own
-    samples, curvature estimator and full rigid transformations."""
-    pairs = pair_reflections(mesh, result, samples=samples, paired=paired, seed=seed)
-    mirrors = [s for s in result.symmetries if s.kind == "reflection"]
-    points = pairs.points
-    if len(points) > max_points - len(mirrors):
-        points = points[np.random.default_rng(seed).choice(len(points), max_points - len(mirrors), replace=False)]
-    marks = reflection_embedding([s.plane.normal for s in mirrors], [s.plane.offset for s in mirrors],
-                                 pairs.centre, result.diagonal)
-    fig = _new_figure("Reflections of sample pairs, projected to 2-D by multidimensional scaling")
-    ax = fig.add_axes((0.08, 0.17, 0.55, 0.72))
-    handles = []
-    if len(points) + len(marks) >= 3:
-        xy = classical_mds(np.vstack([points, marks]))
-        bins = ax.hexbin(xy[:len(points), 0], xy[:len(points), 1], gridsize=45, bins="log", mincnt=1, cmap="Greys")
-        fig.colorbar(bins, cax=fig.add_axes((0.645, 0.17, 0.02, 0.72)), label="pairs per bin")
-        for s, (x, y) in zip(mirrors, xy[len(points):]):
-            colour = PALETTE[s.index % COLOURED_SYMMETRIES]
-            handles.append(ax.scatter([x], [y], marker="*", s=320, color=colour, edgecolors="black",
-                                      label=symmetry_label(s), zorder=3))
-    else:
-        ax.text(0.5, 0.5, "too few pairs to project", ha="center", transform=ax.transAxes)
-    ax.set_xlabel("MDS coordinate 1 (fraction of the diagonal)")
-    ax.set_ylabel("MDS coordinate 2")
-    fig.text(0.02, 0.02, f"{pairs.samples} samples, {pairs.kept} after umbilic pruning, {pairs.pairs} mirror pairs "
-             f"({len(points)} drawn). Reflections only; computed in Python as an illustration of the paper's §3, "
-             "not the detector's own transformation space.", fontsize=8, wrap=True)
-    legend = fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.74, 0.89), fontsize=9,
-                        title="detected reflections" if handles else "no reflection detected")
-    return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
 
 
 # --- d. the report ----------------------------------------------------------------------------------
@@ -530,8 +446,9 @@ REPORT_PICTURES = (
      "Source and target patch of each symmetry in one colour, with its mirror plane, rotation axis or "
      "translation."),
     ("transformation_space.png", transformation_space_picture,
-     "Reflections of sample pairs projected to 2-D by multidimensional scaling (the paper's Figure 7(b)); "
-     "an illustration of §3 computed in Python, not the detector's own transformation space."),
+     "The detector's transformation space Γ, its two sheets projected to 2-D by multidimensional scaling "
+     "(the paper's Figure 7(b)): the density of the pairs' votes, the modes of mean shift (circles) and the "
+     "reported symmetries (stars)."),
 )
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import os
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Any, Optional, Union
 
 import numpy as np
@@ -111,7 +111,8 @@ class SymmetryResult:
       flipped_faces, noise, smoothing_radius, curvature_radius_used, pair_sample_count_used;
     - ``parameters``: every parameter of detect as it was run (defaults included, lengths
       as fractions of the diagonal, min_patch_area as a fraction of the area);
-    - ``vertex_count`` and ``diagonal`` (of the bounding box, in the mesh's units) of the input.
+    - ``vertex_count`` and ``diagonal`` (of the bounding box, in the mesh's units) of the input;
+    - ``transformation_space``: the detector's Γ when the core engine ran (not in the JSON).
     """
     symmetries: list[Symmetry]
     deviation: np.ndarray
@@ -122,13 +123,17 @@ class SymmetryResult:
     parameters: dict[str, Union[int, float, bool]]
     vertex_count: int
     diagonal: float
+    #: the detector's own transformation space Γ (see pictures.detector_transformation_space),
+    #: kept by detect(..., engine="core"); None otherwise.  Not part of the JSON (it is large
+    #: and the same run gives it again).
+    transformation_space: Optional[dict[str, Any]] = field(default=None, compare=False, repr=False)
 
     def to_json(self, indent: Optional[int] = None) -> str:
         """The result as JSON (schema ``result.schema.json``, "schema":
         "meshlab-symmetry-result", "schema_version": 1).  Floats are written as Python's
         repr, so from_json gives back the very same numbers."""
         document = {"schema": SCHEMA, "schema_version": SCHEMA_VERSION}
-        document.update({f.name: _plain(getattr(self, f.name)) for f in fields(self)})
+        document.update({f.name: _plain(getattr(self, f.name)) for f in fields(self) if f.name != "transformation_space"})
         return json.dumps(document, indent=indent, allow_nan=False)
 
     @classmethod

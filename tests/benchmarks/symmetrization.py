@@ -19,7 +19,6 @@ import os
 import sys
 import time
 
-import numpy as np
 import pymeshlab
 
 HERE = os.path.dirname(os.path.abspath(__file__))

@@ -123,33 +123,29 @@ def test_patches_legend_lists_the_reflection_in_its_colour(sphere, drawn):
     assert np.mean(np.abs(hue - blue / blue.max()).max(axis=1) < 0.08) > 0.05
 
 
-def test_pair_reflections_cluster_at_the_detected_mirror(sphere):
+def test_the_detected_mirror_sits_at_a_dense_place_of_the_detectors_own_gamma(sphere):
+    """The picture's data is the detector's Γ: its improper votes pile up at the reported
+    mirror (among the densest tenth of the places its votes lie), and a result of the filter
+    engine gets the very Γ of a core run with the same parameters and seed."""
     mesh, result = sphere
-    pairs = pictures.pair_reflections(mesh, result)
-    mirror = result.symmetries[0].plane
-    mark = pictures.reflection_embedding([mirror.normal], [mirror.offset], pairs.centre, result.diagonal)[0]
-    near = lambda p: np.sum(np.linalg.norm(pairs.points - p, axis=1) < 0.05)  # noqa: E731
-    densities = [near(p) for p in pairs.points[::max(1, len(pairs.points) // 300)]]
-    assert pairs.pairs > 100
-    assert near(mark) >= np.percentile(densities, 90), "the mirror is not among the densest places"
+    gamma = pictures.detector_transformation_space(mesh, result)  # the filter's result: the core reruns
+    points = gamma["points"][gamma["improper"]]
+    mirror = gamma["symmetries"][0]
+    near = lambda p: np.sum(np.linalg.norm(points - p, axis=1) < 0.04)  # noqa: E731  (the default bandwidth)
+    densities = [near(p) for p in points[::max(1, len(points) // 300)]]
+    assert result.symmetries[0].kind == "reflection" and len(points) > 1000
+    assert near(mirror) >= np.percentile(densities, 90), "the mirror is not among the densest places"
+    core = detect(mesh, engine="core", **RUN).transformation_space
+    assert np.array_equal(core["points"], gamma["points"]) and np.array_equal(core["modes"], gamma["modes"])
+    assert len(gamma["modes"]) == len(gamma["mode_heights"]) == len(gamma["mode_improper"]) > 0
 
 
-def test_bisecting_planes_mirror_each_point_onto_its_partner():
-    rng = np.random.default_rng(1)
-    a, b = rng.normal(size=(20, 3)), rng.normal(size=(20, 3))
-    normals, offsets = pictures.bisecting_planes(a, b)
-    mirrored = a - 2 * ((np.sum(normals * a, axis=1) - offsets)[:, None]) * normals
-    assert np.allclose(mirrored, b)
-    assert np.allclose(np.linalg.norm(normals, axis=1), 1)
-
-
-def test_reflection_embedding_ignores_the_sign_of_the_plane():
-    n, centre = np.array([0.6, -0.8, 0.0]), np.array([1.0, 2.0, 3.0])
-    one = pictures.reflection_embedding([n, -n], [0.7, -0.7], centre, 2.0)
-    assert np.allclose(one[0], one[1])
-    # the last three are the plane's point nearest the centre, relative to it, over the diagonal
-    point = centre + one[0][3:] * 2.0
-    assert np.isclose(n @ point, 0.7) and np.allclose(np.cross(point - centre, n), 0)
+def test_gamma_is_not_written_to_json(sphere):
+    mesh, _ = sphere
+    result = detect(mesh, engine="core", **RUN)
+    assert result.transformation_space is not None
+    assert "transformation_space" not in result.to_json()
+    assert SymmetryResult.from_json(result.to_json()).transformation_space is None
 
 
 def test_plane_in_box_and_line_in_box():
