@@ -79,16 +79,32 @@ std::vector<int> order_seeds(std::vector<Seed> seeds, int vertex_count) {
     return order;
 }
 
+// Whether T moves every point of the box by less than `distance`.  |T(x) - x| is convex in
+// x, so its largest value over the box is at a corner.  With the mesh's bounding box and the
+// tolerance: T moves every patch less than the tolerance, which accept() rejects as the
+// identity, and ICP started there stays there (the identity fits any patch exactly).
+bool moves_less_than(const Transformation& T, const Eigen::AlignedBox3d& box, double distance) {
+    for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d x = box.corner(Eigen::AlignedBox3d::CornerType(corner));
+        if ((T.apply(x) - x).norm() >= distance) return false;
+    }
+    return true;
+}
+
 // The ICP refit a patch gets each time it doubles while growing (step 2).  It gives up
 // on the patch when even the refitted transformation leaves a systematic deviation far
 // above the acceptance bound: two smooth patches touching, which growth would otherwise
 // slide along.  (The deviations are those recorded at acceptance, under the previous
 // fit: close enough for an early exit with a margin of two.)  A refit whose result is a
-// known relation stops the growth too, and sets `known_hit`.
+// known relation stops the growth too, and sets `known_hit`; so does one that has become the
+// identity (moves_less_than), setting `identity_hit`: a cluster of near-identity votes would
+// otherwise grow over the whole mesh, be refitted and regrown, and only then be rejected.
 RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                   const RegionGrower& grower, const VerificationOptions& options,
-                                  const KnownRelation& known, bool& known_hit) {
-    return [&mesh, &surface, &grower, &options, &known, &known_hit](const std::vector<int>& patch, Transformation& t) {
+                                  const KnownRelation& known, const Eigen::AlignedBox3d& box, bool& known_hit,
+                                  bool& identity_hit) {
+    return [&mesh, &surface, &grower, &options, &known, &box, &known_hit, &identity_hit](const std::vector<int>& patch,
+                                                                                       Transformation& t) {
         if (!options.refine_with_icp) return RefitOutcome::Unchanged;
         IcpResult r = refine_by_icp(fit_points(mesh, patch), surface, t, options.group,
                                     options.icp.iterations_while_growing, options);
@@ -96,6 +112,10 @@ RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQ
         t = r.transform;
         if (known && known(t)) {
             known_hit = true;
+            return RefitOutcome::Hopeless;
+        }
+        if (moves_less_than(t, box, options.tolerance)) {
+            identity_hit = true;
             return RefitOutcome::Hopeless;
         }
         double systematic = systematic_deviation(mesh, patch, grower.deviations(), options.deviation_smoothing_iterations);
@@ -114,6 +134,7 @@ struct SourceComponents {
     std::vector<int> vertices;
     Transformation estimate;
     bool known = false;
+    bool identity = false;  // the estimate became the identity: the candidate is rejected
 };
 
 SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
@@ -121,7 +142,11 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
                                         const VerificationOptions& options, const KnownRelation& known) {
     RegionGrower grower(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
     SourceComponents out;
-    const RegionGrower::Refit refit = growing_refit(mesh, surface, grower, options, known, out.known);
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : mesh.positions) box.extend(p);
+    out.identity = moves_less_than(mode, box, options.tolerance);
+    if (out.identity) return out;
+    const RegionGrower::Refit refit = growing_refit(mesh, surface, grower, options, known, box, out.known, out.identity);
     std::vector<char> scratch(size_t(mesh.vertex_count()), 0);
     out.estimate = mode;
     size_t refitted_at = 0;
@@ -130,7 +155,7 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
         Transformation local = out.estimate;
         bool hopeless = false;
         std::vector<int> component = grower.grow(seed, local, nullptr, refit, hopeless);
-        if (out.known) return out;
+        if (out.known || out.identity) return out;
         if (component.empty()) continue;
         if (hopeless || area_of(mesh, component, scratch) < options.min_patch_area) {
             grower.forbid(component);
@@ -144,6 +169,10 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
                                         options.icp.iterations_while_growing, options);
             if (r.refitted) out.estimate = r.transform;
             refitted_at = out.vertices.size();
+            if (moves_less_than(out.estimate, box, options.tolerance)) {
+                out.identity = true;
+                return out;
+            }
             if (known && known(out.estimate)) {
                 out.known = true;
                 return out;
@@ -331,7 +360,7 @@ std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh,
                                                  const VerificationOptions& options, const KnownRelation& known) {
     const std::vector<int> order = order_seeds(std::move(seeds), mesh.vertex_count());
     SourceComponents components = grow_source_components(mesh, surface, mode, order, options, known);
-    if (components.known || components.vertices.empty()) return std::nullopt;
+    if (components.known || components.identity || components.vertices.empty()) return std::nullopt;
 
     VerifiedSymmetry s;
     s.transform = components.estimate;

@@ -161,8 +161,8 @@ def _detect_parser():
     parser.add_argument("-o", "--output-dir", required=True, metavar="OUTDIR",
                         help="directory the files are written to (made if missing)")
     parser.add_argument("--report", action="store_true",
-                        help="also write report.html with pictures of the deviation, the patches and the pairs' "
-                             "reflections (PNG files beside it) and a table of the symmetries")
+                        help="also write report.html with pictures of the deviation, the patches and the detector's "
+                             "transformation space (PNG files beside it) and a table of the symmetries")
     parser.add_argument("--engine", choices=("core", "filter"), default="core",
                         help="'core' runs the compiled core, with a progress bar; 'filter' runs the MeshLab filter "
                              "through pymeshlab, as a filter script would, and saves the mesh as MeshLab holds it "
