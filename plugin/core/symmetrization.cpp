@@ -43,17 +43,22 @@ Membership membership(const DetectionResult& detected, Eigen::Index rows) {
     return m;
 }
 
+// What a pass measured before it moved anything.
+struct PassOutcome {
+    double rms = 0;   // RMS deviation of the images that found the surface, absolute units
+    int moved = 0;    // vertices that moved (none for strength 0)
+};
+
 // One Jacobi pass: every displacement measured on the surface (V, F), then applied.
-// Returns the RMS deviation (absolute units) of the vertices that found their image's
-// surface, measured before the move, and counts them.
-double symmetrization_pass(Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionResult& detected,
-                           const Membership& m, double max_distance, double strength, int& moved) {
+PassOutcome symmetrization_pass(Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionResult& detected,
+                                const Membership& m, double max_distance, double strength) {
     Mesh mesh;
     std::vector<int> vertex_of_input;
     build_mesh(V, F, mesh, vertex_of_input);
     const SurfaceQuery surface(mesh, 8);
     Eigen::MatrixX3d displacement = Eigen::MatrixX3d::Zero(V.rows(), 3);
     double squares = 0;
+    int measurements = 0;  // a vertex in both patches (a mirror's own half) is measured twice
     std::vector<Eigen::Index> moving;
     for (Eigen::Index v = 0; v < V.rows(); ++v) {
         const int k = m.symmetry[size_t(v)];
@@ -76,13 +81,13 @@ double symmetrization_pass(Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const
             ++rules;
         }
         if (rules == 0) continue;
+        measurements += rules;
         displacement.row(v) = strength * sum.transpose() / rules;
-        moving.push_back(v);
+        if (strength > 0) moving.push_back(v);
     }
     // Only the vertices that move are written: adding a zero would turn a -0 into +0.
     for (Eigen::Index v : moving) V.row(v) += displacement.row(v);
-    moved = int(moving.size());
-    return moved ? std::sqrt(squares / moved) : 0;  // (a vertex in both patches counts twice in squares)
+    return {measurements ? std::sqrt(squares / measurements) : 0, int(moving.size())};
 }
 
 }  // namespace
@@ -111,17 +116,14 @@ SymmetrizationResult symmetrize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3
     SymmetrizationResult out;
     out.V = V;
     for (int pass = 0; pass < options.iterations; ++pass) {
-        int moved = 0;
-        const double rms = symmetrization_pass(out.V, F, detected, m, max_distance, options.strength, moved);
+        const PassOutcome outcome = symmetrization_pass(out.V, F, detected, m, max_distance, options.strength);
         if (pass == 0) {
-            out.rms_before = rms / diagonal;
-            out.moved_vertices = options.strength > 0 ? moved : 0;
+            out.rms_before = outcome.rms / diagonal;
+            out.moved_vertices = outcome.moved;
         }
     }
     // The deviation left: a pass of strength 0 measures without moving.
-    int measured = 0;
-    Eigen::MatrixX3d after = out.V;
-    out.rms_after = symmetrization_pass(after, F, detected, m, max_distance, 0, measured) / diagonal;
+    out.rms_after = symmetrization_pass(out.V, F, detected, m, max_distance, 0).rms / diagonal;
     return out;
 }
 
