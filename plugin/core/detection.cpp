@@ -449,7 +449,6 @@ public:
     /// mesh, refined by slippage, kept when large enough.
     void add_families_of_discarded_samples() {
         std::vector<char> covered(size_t(mesh_.vertex_count()), 0);
-        std::vector<char> scratch(size_t(mesh_.vertex_count()), 0);
         for (const SurfaceSignature& sample : votes_.discarded) {
             const int seed = seed_vertex(model_.analysed(), sample);
             if (covered[size_t(seed)]) continue;
@@ -457,10 +456,7 @@ public:
             family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, options_.continuous);
             covered[size_t(seed)] = 1;
             for (int v : family.vertices) covered[size_t(v)] = 1;
-            for (int v : family.vertices) scratch[size_t(v)] = 1;
-            const double area = patch_area(mesh_, family.vertices, scratch);
-            for (int v : family.vertices) scratch[size_t(v)] = 0;
-            if (area < vo_.min_patch_area) continue;
+            if (area_of(mesh_, family.vertices, scratch_) < vo_.min_patch_area) continue;
             ContinuousFamily refined = slippable_family(mesh_, family.vertices, vo_.tolerance, options_.continuous);
             if (refined.kind != family.kind) continue;
             refined.vertices = grow_family_patch(mesh_, refined, family.vertices, vo_.tolerance, options_.continuous);
@@ -688,20 +684,13 @@ private:
     // slippage finds a cylinder in it too (refined axis), regrown about that axis.
     std::optional<ContinuousFamily> grown_cylinder(ContinuousFamily family, int seed) {
         family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, options_.continuous);
-        if (area_of(family.vertices) < vo_.min_patch_area) return std::nullopt;
+        if (area_of(mesh_, family.vertices, scratch_) < vo_.min_patch_area) return std::nullopt;
         ContinuousFamily refined = slippable_family(mesh_, family.vertices, vo_.tolerance, options_.continuous);
         if (refined.kind != ContinuousKind::Rotational || !refined.slides_along_axis) return std::nullopt;
         refined.vertices = grow_family_patch(mesh_, refined, family.vertices, vo_.tolerance, options_.continuous);
-        if (area_of(refined.vertices) < vo_.min_patch_area) return std::nullopt;
+        if (area_of(mesh_, refined.vertices, scratch_) < vo_.min_patch_area) return std::nullopt;
         if (!lies_on_cylinder(mesh_, refined, vo_.tolerance, options_.continuous)) return std::nullopt;
         return refined;
-    }
-
-    double area_of(const std::vector<int>& vertices) {
-        for (int v : vertices) scratch_[size_t(v)] = 1;
-        const double area = patch_area(mesh_, vertices, scratch_);
-        for (int v : vertices) scratch_[size_t(v)] = 0;
-        return area;
     }
 
     // A family found twice (two members of one surface of revolution) is one family.
@@ -750,7 +739,7 @@ private:
     Findings findings_;
     std::vector<std::vector<char>> family_flags_;
     std::vector<char> explained_;  // vertices on any found patch, see inside_explained_patches
-    std::vector<char> scratch_ = std::vector<char>(size_t(mesh_.vertex_count()), 0);  // see area_of
+    std::vector<char> scratch_ = std::vector<char>(size_t(mesh_.vertex_count()), 0);  // for area_of
     size_t explained_count_ = 0;
     std::vector<Transformation> tried_;
     size_t verified_ = 0;

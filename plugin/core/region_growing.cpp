@@ -142,6 +142,13 @@ double patch_area(const MeshNeighbourhoods& mesh, const std::vector<int>& vertic
     return area;
 }
 
+double area_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, std::vector<char>& scratch) {
+    for (int v : vertices) scratch[size_t(v)] = 1;
+    const double area = patch_area(mesh, vertices, scratch);
+    for (int v : vertices) scratch[size_t(v)] = 0;
+    return area;
+}
+
 RegionGrower::RegionGrower(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                            const RegionGrowingOptions& options)
     : mesh_(mesh), surface_(surface), tolerance_(options.tolerance),

@@ -61,6 +61,9 @@ double median_edge_length(const MeshNeighbourhoods& mesh, const DebrisRule& debr
 /// Area of the faces whose three corners are all in `vertices` (flagged in `member`).
 /// Visits only the faces around those vertices, so it costs O(|vertices|), not O(F).
 double patch_area(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, const std::vector<char>& member);
+/// patch_area of `vertices`, flagged in `scratch` (all zero, one per mesh vertex) for the
+/// call and cleared again.
+double area_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, std::vector<char>& scratch);
 
 struct RegionGrowingOptions {
     double tolerance = 0;  ///< largest distance of T(v) to the surface, absolute units

@@ -55,12 +55,6 @@ IcpResult refine_by_icp(const FitPoints& points, const SurfaceQuery& surface, co
                          options.icp);
 }
 
-double area_of(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, std::vector<char>& scratch) {
-    for (int v : vertices) scratch[size_t(v)] = 1;
-    double area = patch_area(mesh, vertices, scratch);
-    for (int v : vertices) scratch[size_t(v)] = 0;
-    return area;
-}
 
 // Step 1: the pairs whose vote lies nearest to the cluster's mode agree best with it, so
 // they start first.  Ties are broken by vertex, so the order, and hence the result, does
