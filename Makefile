@@ -16,7 +16,7 @@ DEB_PACKAGES := g++ cmake ninja-build python3-venv python3-dev libeigen3-dev lib
 
 DEMO_MESH := meshes/demo.ply
 
-.PHONY: all setup build demo test test-sanitize benchmark clean
+.PHONY: all setup build meshlabserver-plugin demo test test-sanitize benchmark clean
 all: build
 
 setup: $(STAMPS)/apt $(STAMPS)/venv third_party/meshlab/.verified
@@ -46,11 +46,31 @@ build: setup
 	@cmp -s $(BUILD)/python_bindings/$(CORE_MODULE) $(PACKAGE)/$(CORE_MODULE) || \
 	  { cp $(BUILD)/python_bindings/$(CORE_MODULE) $(PACKAGE)/$(CORE_MODULE).tmp && mv -f $(PACKAGE)/$(CORE_MODULE).tmp $(PACKAGE)/$(CORE_MODULE); }
 
+# The plugin for Debian 12's meshlabserver (MeshLab 2020.09, issue 7): the same core and
+# host-side files built against the 2020.09 plugin API, in float, linked against the
+# `meshlab` package's libmeshlab-common.so.  Install it by copying it into
+# /usr/lib/x86_64-linux-gnu/meshlab/plugins/ (README, "Headless batch jobs").
+MESHLAB_2020_BUILD := $(BUILD)/meshlab-2020.09
+MESHLABSERVER_DEB_PACKAGES := meshlab xvfb xauth
+$(STAMPS)/apt-meshlabserver: scripts/install_debian_packages.sh $(STAMPS)/apt
+	@scripts/install_debian_packages.sh $(MESHLABSERVER_DEB_PACKAGES)
+	@touch $@
+
+third_party/meshlab-2020.09/.verified: scripts/fetch_meshlab_source.sh $(STAMPS)/apt
+	@scripts/fetch_meshlab_source.sh $(ROOT)/third_party 2020.09
+
+meshlabserver-plugin: setup $(STAMPS)/apt-meshlabserver third_party/meshlab-2020.09/.verified
+	@mkdir -p $(BUILD)
+	@cmake -S . -B $(MESHLAB_2020_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev -DMESHLAB_API=2020.09 \
+	  -DSYMMETRY_BUILD_TESTS=OFF -DCMAKE_DISABLE_FIND_PACKAGE_pybind11=ON > $(MESHLAB_2020_BUILD).configure.log 2>&1 \
+	  || { cat $(MESHLAB_2020_BUILD).configure.log; exit 1; }
+	@cmake --build $(MESHLAB_2020_BUILD)
+
 DEMO_OUT := meshes/demo_report
 demo: build
 	$(PY) -m meshlab_symmetry detect $(DEMO_MESH) -o $(DEMO_OUT) --report
 
-test: build
+test: build meshlabserver-plugin
 	cd $(BUILD) && ctest --output-on-failure -j2
 	$(PY) -m pytest -q tests/python
 

@@ -1,21 +1,38 @@
 #!/usr/bin/env bash
-# Fetch and verify the MeshLab 2025.07 upstream source (it bundles vcglib) from
-# Debian's source package in the "sid" suite, without touching the system's apt
-# sources: a private sources list and state directory live under $WORK.
+# Fetch and verify a MeshLab upstream source (it bundles vcglib) from Debian's source
+# package, without touching the system's apt sources: a private sources list and state
+# directory live under DEST_DIR.
+#   2025.07 (the default): the "sid" suite; pymeshlab's and the GUI's plugin API.
+#   2020.09: the "bookworm" suite; the plugin API of Debian 12's meshlabserver.
 #
-# usage: fetch_meshlab_source.sh DEST_DIR
-# Leaves DEST_DIR/meshlab (the unpacked tree) and exits 0, or explains what failed.
+# usage: fetch_meshlab_source.sh DEST_DIR [2025.07|2020.09]
+# Leaves DEST_DIR/meshlab (2025.07) or DEST_DIR/meshlab-2020.09 (the unpacked tree) and
+# exits 0, or explains what failed.
 set -euo pipefail
 
-DEST=${1:?usage: fetch_meshlab_source.sh DEST_DIR}
-TARBALL=meshlab_2025.07~dfsg.orig.tar.xz
-SHA256=d22c98d362f2a284e481af8dbfc272b2222f5b9c67b3cf8bec57d1c3161886f4
-PKGVER=2025.07~dfsg-4
-TOPDIR=meshlab-dc48b91ae562756a6988048c5d5c7f1d2b687256
+DEST=${1:?usage: fetch_meshlab_source.sh DEST_DIR [2025.07|2020.09]}
+RELEASE=${2:-2025.07}
+case "$RELEASE" in
+  2025.07)
+    TARBALL=meshlab_2025.07~dfsg.orig.tar.xz
+    SHA256=d22c98d362f2a284e481af8dbfc272b2222f5b9c67b3cf8bec57d1c3161886f4
+    PKGVER=2025.07~dfsg-4
+    SUITE=sid
+    TOPDIR=meshlab-dc48b91ae562756a6988048c5d5c7f1d2b687256
+    UNPACKED=meshlab ;;
+  2020.09)
+    TARBALL=meshlab_2020.09+dfsg1.orig.tar.xz
+    SHA256=d6715352ff65caffdec0292858d4263eb0c3cbbf3b1e5c2e2bab218e3f234630
+    PKGVER=2020.09+dfsg1-2
+    SUITE=bookworm
+    TOPDIR=meshlab-a595226b8b02505afbf9fd4ffbccbd6011046ae6
+    UNPACKED=meshlab-2020.09 ;;
+  *) echo "error: unknown MeshLab release '$RELEASE' (2025.07 or 2020.09)." >&2; exit 1 ;;
+esac
 
 mkdir -p "$DEST"
 cd "$DEST"
-if [ -f meshlab/.verified ]; then exit 0; fi
+if [ -f "$UNPACKED/.verified" ]; then exit 0; fi
 
 verify() { echo "$SHA256  $TARBALL" | sha256sum --check --status; }
 
@@ -31,20 +48,20 @@ if [ ! -f "$TARBALL" ] || ! verify; then
     echo "       Put $TARBALL (sha256 $SHA256) into $DEST by hand and run make again." >&2
     exit 1
   fi
-  apt_dir=$PWD/apt-sid
+  apt_dir=$PWD/apt-$SUITE
   mkdir -p "$apt_dir/lists/partial" "$apt_dir/archives/partial"
-  echo "deb-src [trusted=yes] $mirror sid main" > "$apt_dir/sources.list"
+  echo "deb-src [trusted=yes] $mirror $SUITE main" > "$apt_dir/sources.list"
   apt_opts=(-o Dir::Etc::SourceList="$apt_dir/sources.list" -o Dir::Etc::SourceParts=/dev/null
             -o Dir::State::Lists="$apt_dir/lists" -o Dir::Cache::Archives="$apt_dir/archives"
             -o APT::Sandbox::User=root -o Debug::NoLocking=1)
   apt-get -qq "${apt_opts[@]}" update
   # The .dsc of a superseded Debian revision can vanish while the upstream tarball stays;
   # only the tarball matters, and it is checked against the pinned checksum below.
-  apt-get -qq "${apt_opts[@]}" source --download-only "meshlab=$PKGVER" > apt-source.log 2>&1 || true
+  apt-get -qq "${apt_opts[@]}" source --download-only "meshlab=$PKGVER" > apt-source-$SUITE.log 2>&1 || true
   if [ ! -f "$TARBALL" ]; then
-    cat apt-source.log >&2
+    cat apt-source-$SUITE.log >&2
     echo "error: Debian's source package meshlab=$PKGVER did not provide $TARBALL." >&2
-    echo "       The sid suite may have moved on; put the tarball (sha256 $SHA256) into $DEST by hand." >&2
+    echo "       The $SUITE suite may have moved on; put the tarball (sha256 $SHA256) into $DEST by hand." >&2
     exit 1
   fi
 fi
@@ -53,7 +70,7 @@ if ! verify; then
   echo "       It was altered or is a different release; delete it and run make again." >&2
   exit 1
 fi
-rm -rf meshlab "$TOPDIR"
+rm -rf "$UNPACKED" "$TOPDIR"
 tar xf "$TARBALL"
-mv "$TOPDIR" meshlab
-touch meshlab/.verified
+mv "$TOPDIR" "$UNPACKED"
+touch "$UNPACKED/.verified"

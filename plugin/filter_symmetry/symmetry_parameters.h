@@ -8,7 +8,7 @@
 
 #include <optional>
 
-#include <common/parameters/rich_parameter_list.h>
+#include "meshlab_api.h"
 
 namespace symmetry_parameters {
 

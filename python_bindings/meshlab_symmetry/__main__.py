@@ -19,7 +19,13 @@ Writes <P>.symmetry.ply and <P>.symmetry.json (the symmetry graph), where P is t
 path without its extension unless --output-prefix is given (a directory there means
 <directory>/<input stem>), and prints what was found.
 
-Either form reports an error as one line on stderr and exits non-zero.
+    meshlab-symmetry script MESH -o detect.mlx [--verification-tolerance 0.02 ...]
+
+writes a filter script for Debian 12's meshlabserver (MeshLab 2020.09) that runs the filter
+with these parameters, its lengths made absolute for the diagonal of MESH
+(meshlab_symmetry.filter_script).
+
+Every form reports an error as one line on stderr and exits non-zero.
 """
 import argparse
 import contextlib
@@ -102,6 +108,8 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "detect":
         return _detect_command(argv[1:])
+    if argv and argv[0] == "script":
+        return _script_command(argv[1:])
     return _prefix_command(argv)
 
 
@@ -149,6 +157,52 @@ class _OneLineParser(argparse.ArgumentParser):
         sys.exit(2)
 
 
+def _add_parameter_options(parser):
+    """One option per parameter of detect, in detect's units."""
+    for p in PARAMETERS:
+        flag = "--" + p.name.replace("_", "-")
+        text = f"{p.meaning} ({p.unit}; default: %(default)s)"
+        if p.convert == "group":
+            parser.add_argument(flag, choices=list(GROUPS), default="rigid",
+                                help=f"{p.meaning} (a name; default: %(default)s)")
+        elif isinstance(p.default, bool):
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=p.default, help=text)
+        else:
+            metavar = "N" if isinstance(p.default, int) else "FRACTION" if p.unit.startswith("fraction") else "X"
+            parser.add_argument(flag, type=type(p.default), default=p.default, metavar=metavar, help=text)
+
+
+def _script_command(argv):
+    """`meshlab-symmetry script MESH -o detect.mlx [parameters]`: a filter script for
+    meshlabserver 2020.09, whose lengths are absolute, made for MESH's diagonal."""
+    from .filter_script import meshlabserver_script
+    parser = _OneLineParser(
+        prog=f"{PROG} script",
+        description="Write a MeshLab 2020.09 filter script (.mlx) that runs the symmetry filter in meshlabserver "
+                    "(`xvfb-run -a meshlabserver -i MESH -o out.ply -m vq vc -s SCRIPT`). meshlabserver needs every "
+                    "parameter in the script and reads lengths in the mesh's units, so the script is made for the "
+                    "bounding-box diagonal of MESH; it serves every mesh of about that size.")
+    parser.add_argument("input", help="mesh file whose diagonal sets the lengths (any format pymeshlab reads)")
+    parser.add_argument("-o", "--output", required=True, metavar="SCRIPT", help="the .mlx file to write")
+    parser.add_argument("--create-patch-layers", action=argparse.BooleanOptionalAction, default=False,
+                        help="add the patch layers (meshlabserver saves only the input; default: %(default)s)")
+    _add_parameter_options(parser)
+    args = parser.parse_args(argv)
+    parameters = {p.name: getattr(args, p.name) for p in PARAMETERS}
+    try:
+        ms = pymeshlab.MeshSet()
+        load_mesh_file(ms, args.input)
+        diagonal = ms.current_mesh().bounding_box().diagonal()
+        text = meshlabserver_script(diagonal, create_patch_layers=args.create_patch_layers, **parameters)
+        with open(args.output, "w") as f:
+            f.write(text)
+    except (pymeshlab.PyMeshLabException, OSError, ValueError) as e:
+        print(f"{PROG}: error: {_error_message(e)}", file=sys.stderr)
+        return 1
+    print(f"wrote {args.output} (lengths for a bounding-box diagonal of {diagonal:.6g})")
+    return 0
+
+
 def _detect_parser():
     parser = _OneLineParser(
         prog=f"{PROG} detect",
@@ -169,17 +223,7 @@ def _detect_parser():
                              "(every attribute it read); the same symmetries for the same seed (default: %(default)s)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                         help="draw the core's progress bar on stderr (default: when stderr is a terminal)")
-    for p in PARAMETERS:
-        flag = "--" + p.name.replace("_", "-")
-        text = f"{p.meaning} ({p.unit}; default: %(default)s)"
-        if p.convert == "group":
-            parser.add_argument(flag, choices=list(GROUPS), default="rigid",
-                                help=f"{p.meaning} (a name; default: %(default)s)")
-        elif isinstance(p.default, bool):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=p.default, help=text)
-        else:
-            metavar = "N" if isinstance(p.default, int) else "FRACTION" if p.unit.startswith("fraction") else "X"
-            parser.add_argument(flag, type=type(p.default), default=p.default, metavar=metavar, help=text)
+    _add_parameter_options(parser)
     return parser
 
 

@@ -1,0 +1,107 @@
+#include "filter_texts.h"
+
+namespace symmetry_texts {
+
+namespace {
+
+QString detectionIntro()
+{
+	return "Finds parts of the surface that are mapped onto other parts by a rotation, reflection, "
+	       "translation or uniform scaling, even when the symmetry is only partial (it holds on some "
+	       "patches, not on the whole model) and approximate (it holds up to a tolerance).<br>"
+	       "Curvature signatures are computed at surface samples; pairs of similar samples vote for the "
+	       "transformation that maps one onto the other; mean-shift clustering of the votes in "
+	       "transformation space gives candidate symmetries, each verified by growing the pair of patches "
+	       "it maps onto each other; finally the symmetries are reduced to a few generators.<br><br>"
+	       "<b>Outputs</b><br>"
+	       "<i>Vertex quality</i>: signed deviation from perfect symmetry of each vertex under the most "
+	       "significant symmetry it belongs to, as a fraction of the bounding-box diagonal (Figure 1 of "
+	       "the paper); 0 where no symmetry holds.<br>"
+	       "<i>Vertex colour</i>: a ramp over that deviation, symmetric around 0; grey where no symmetry "
+	       "holds.<br>"
+	       "<i>Attribute symmetry_id</i> (per vertex, scalar): index of that symmetry, -1 where none "
+	       "holds.<br>"
+	       "<i>Layers symmetry_k_source and symmetry_k_target</i> (if <i>Create patch layers</i> is on): "
+	       "the two patches that symmetry k maps onto each other; the input stays the current mesh.<br>";
+}
+
+QString detectionReturnedValues()
+{
+	return "<i>Returned values</i>: symmetry_count; transforms (16 numbers per symmetry, the row-major 4x4 "
+	       "matrix mapping the source patch onto the target; for a continuous family one of its members); "
+	       "scales, is_reflection, rms_errors and max_errors (deviation from perfect symmetry, fraction of "
+	       "the diagonal), systematic_errors (the deviation averaged over neighbourhoods, what noise leaves), "
+	       "source_areas (fraction of the total area) and supports (votes for it), one per symmetry; "
+	       "continuous_kinds (0 discrete, 1 rotational, 2 translational, 3 helical, 4 planar, 5 spherical), "
+	       "continuous_axes (6 per symmetry: a point on the axis, plane or the centre, then the unit axis, "
+	       "normal or direction; zeros for a discrete symmetry) and continuous_pitches (helical: advance per "
+	       "turn, fraction of the diagonal); generator_count, is_generator and basis_words "
+	       "(basis_loop_length letters per symmetry, padded with 0: letter +k is generator k-1, -k its "
+	       "inverse; continuous families are not in the basis); patch_layer_ids (source and target layer id "
+	       "per symmetry, -1 without layers); stage times seconds_signatures, seconds_pairing, "
+	       "seconds_clustering, seconds_verification; work counts samples, pruned_samples, pairs, clusters, "
+	       "verified_clusters; and what the filter chose from the mesh: working_vertices (vertices of the "
+	       "simplified copy analysed, 0 when the mesh itself was), welded_vertices (vertices of a "
+	       "triangle soup at the same position as another, welded on the filter's copy), flipped_faces (faces "
+	       "turned on that copy to orient each part coherently and outward), noise (estimated, fraction of the "
+	       "diagonal), smoothing_radius (presmoothing of a noisy mesh, 0 if none), curvature_radius_used and "
+	       "pair_sample_count_used.<br><br>";
+}
+
+QString detectionReference()
+{
+	return "See:<br><i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i><br>"
+	       "<b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b><br>"
+	       "ACM Transactions on Graphics 25(3) (SIGGRAPH 2006), pages 560-568.";
+}
+
+QString symmetrizationIntro()
+{
+	return "Detects the partial and approximate symmetries of the current mesh (with the parameters of "
+	       "<i>Detect Partial and Approximate Symmetries</i>), then moves the vertices of each approximately "
+	       "symmetric pair of patches towards their exactly symmetric average: a vertex whose image under the "
+	       "symmetry lands off the surface moves so that its image goes half-way (times <i>Strength</i>) to the "
+	       "surface, and the other side moves by the same rule under the inverse, so both meet in the middle; "
+	       "<i>Iterations</i> passes, each on the surface the previous one left. A vertex moves under the most "
+	       "significant symmetry it is in; vertices in no symmetry, and on continuous families (which have "
+	       "no single transformation), do not move. An exactly symmetric pair does not move.<br>";
+}
+
+QString symmetrizationReturnedValues()
+{
+	return "<i>Returned values</i>: symmetry_count (symmetries detected), symmetrized_vertices (vertices "
+	       "moved), rms_before and rms_after (RMS deviation from perfect symmetry of those vertices, fraction "
+	       "of the diagonal, before and after).<br>";
+}
+
+QString symmetrizationReference()
+{
+	return "Symmetrization is named as future work in: <i>Niloy J. Mitra, Leonidas J. Guibas, Mark Pauly</i>, "
+	       "<b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b>, SIGGRAPH 2006; see also "
+	       "Mitra, Guibas, Pauly, \"Symmetrization\", SIGGRAPH 2007.";
+}
+
+}  // namespace
+
+QString detectionName()
+{
+	return "Detect Partial and Approximate Symmetries";
+}
+
+QString symmetrizationName()
+{
+	return "Symmetrize Approximate Symmetries";
+}
+
+QString detectionInfo(bool returnsValues)
+{
+	return detectionIntro() + (returnsValues ? detectionReturnedValues() : QString()) + detectionReference();
+}
+
+QString symmetrizationInfo(bool returnsValues)
+{
+	return symmetrizationIntro() + (returnsValues ? symmetrizationReturnedValues() : QString()) +
+	       symmetrizationReference();
+}
+
+}  // namespace symmetry_texts

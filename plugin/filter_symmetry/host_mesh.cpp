@@ -1,0 +1,403 @@
+#include "host_mesh.h"
+
+#include "symmetry_parameters.h"
+
+#include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/normal.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace symmetry_host {
+
+namespace {
+
+// Name of the per-vertex attribute holding the symmetry index (public API).
+const char* const kSymmetryIdAttribute = "symmetry_id";
+
+/// Copies of the input vertices in `rows` (with position, normal, colour, quality) and
+/// of the faces whose three vertices are all among them.
+void copyPatch(const HostMesh& h, const std::vector<int>& rows, CMeshO& patch)
+{
+	std::vector<int> patchIndex(size_t(h.V.rows()), -1);
+	for (int row : rows)
+		patchIndex[size_t(row)] = 0;
+	int n = 0;
+	for (int& i : patchIndex)
+		if (i == 0)
+			i = n++;
+
+	vcg::tri::Allocator<CMeshO>::AddVertices(patch, size_t(n));
+	for (size_t row = 0; row < patchIndex.size(); ++row) {
+		if (patchIndex[row] < 0)
+			continue;
+		CVertexO& dst = patch.vert[size_t(patchIndex[row])];
+		const CVertexO& src = *h.vertexOfRow[row];
+		dst.P() = src.cP();
+		dst.N() = src.cN();
+		dst.C() = src.cC();
+		dst.Q() = src.cQ();
+	}
+
+	std::vector<Eigen::Vector3i> faces;
+	for (Eigen::Index f = 0; f < h.F.rows(); ++f) {
+		Eigen::Vector3i t(patchIndex[size_t(h.F(f, 0))], patchIndex[size_t(h.F(f, 1))],
+		                  patchIndex[size_t(h.F(f, 2))]);
+		if (t.minCoeff() >= 0)
+			faces.push_back(t);
+	}
+	if (!faces.empty()) {
+		auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(patch, faces.size());
+		for (size_t i = 0; i < faces.size(); ++i, ++fi)
+			for (int c = 0; c < 3; ++c)
+				fi->V(c) = &patch.vert[size_t(faces[i][c])];
+	}
+}
+
+// ", transform [r00 r01 r02 t0; r10 r11 r12 t1; r20 r21 r22 t2]": the 3 x 4 matrix that maps
+// the source patch onto the target, for a log a script can read; empty for a continuous
+// family, which its axis describes.
+QString transformText(const symmetry::DetectedSymmetry& s)
+{
+	if (s.continuous_kind != symmetry::ContinuousKind::Discrete)
+		return QString();
+	const Eigen::Matrix4d m = s.transform.matrix();
+	QStringList rows;
+	for (int i = 0; i < 3; ++i)
+		rows << QString::asprintf("%.6g %.6g %.6g %.6g", m(i, 0), m(i, 1), m(i, 2), m(i, 3));
+	return ", transform [" + rows.join("; ") + "]";
+}
+
+}  // namespace
+
+HostMesh copyMesh(CMeshO& m)
+{
+	HostMesh h;
+	std::vector<int> rowOfVertex(m.vert.size(), -1);
+	for (size_t i = 0; i < m.vert.size(); ++i) {
+		if (!m.vert[i].IsD()) {
+			rowOfVertex[i] = int(h.vertexOfRow.size());
+			h.vertexOfRow.push_back(&m.vert[i]);
+		}
+	}
+	h.V.resize(Eigen::Index(h.vertexOfRow.size()), 3);
+	for (size_t r = 0; r < h.vertexOfRow.size(); ++r)
+		for (int c = 0; c < 3; ++c)
+			h.V(Eigen::Index(r), c) = double(h.vertexOfRow[r]->P()[c]);
+
+	std::vector<Eigen::Vector3i> faces;
+	faces.reserve(m.face.size());
+	for (const CFaceO& f : m.face) {
+		if (f.IsD())
+			continue;
+		Eigen::Vector3i row;
+		bool valid = true;
+		for (int c = 0; c < 3; ++c) {
+			const CVertexO* v = f.cV(c);
+			if (v == nullptr) {
+				valid = false;
+				break;
+			}
+			// A reader can leave a face pointing past the vertex array (MeshLab's OBJ reader
+			// on out-of-range indices, assimp's invalid/malformed.obj): check the index
+			// before touching the vertex, which is not there.
+			if (v < m.vert.data() || v >= m.vert.data() + m.vert.size())
+				throw symmetry::InputError(
+					"The mesh has faces that refer to vertices that do not exist (the file is malformed: "
+					"its face indices go past its vertex list); repair the file, or remove those faces in "
+					"the program that wrote it.");
+			if (v->IsD()) {
+				valid = false;
+				break;
+			}
+			row[c] = rowOfVertex[size_t(v - m.vert.data())];
+		}
+		if (valid)
+			faces.push_back(row);
+	}
+	h.F.resize(Eigen::Index(faces.size()), 3);
+	for (size_t i = 0; i < faces.size(); ++i)
+		h.F.row(Eigen::Index(i)) = faces[i].transpose();
+	return h;
+}
+
+/// A result that does not fit the input would corrupt the document: refuse it before
+/// anything is written.  Throws std::logic_error (a bug in the core, not user error).
+void checkResult(const symmetry::DetectionResult& r, Eigen::Index rows, const symmetry::DetectionOptions& o)
+{
+	auto fail = [](const std::string& what) { throw std::logic_error(what); };
+	const int count = int(r.symmetries.size());
+	if (Eigen::Index(r.vertex_deviation.size()) != rows || Eigen::Index(r.vertex_symmetry_id.size()) != rows)
+		fail("per-vertex outputs do not match the vertex count");
+	for (double d : r.vertex_deviation)
+		if (!std::isfinite(d))
+			fail("a vertex deviation is not a finite number");
+	for (int id : r.vertex_symmetry_id)
+		if (id < -1 || id >= count)
+			fail("a vertex symmetry index is out of range");
+	for (const symmetry::DetectedSymmetry& s : r.symmetries) {
+		for (const std::vector<int>* patch : {&s.source_vertices, &s.target_vertices})
+			for (int v : *patch)
+				if (v < 0 || Eigen::Index(v) >= rows)
+					fail("a patch vertex index is out of range");
+		if (int(s.word.size()) > std::max(o.basis_loop_length, 1))
+			fail("a basis word is longer than basis_loop_length");
+	}
+}
+
+/// v.Q() = signed deviation (fraction of the diagonal); colour ramp over [-m, m],
+/// grey where no symmetry holds.
+void writeQualityAndColour(MeshModel& mm, const HostMesh& h, const symmetry::DetectionResult& r)
+{
+	mm.updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+	double range = 0;
+	for (double d : r.vertex_deviation)
+		range = std::max(range, std::abs(d));
+	if (!(range > 0))
+		range = 1e-6;  // all exact: the ramp's centre colour everywhere
+	for (size_t row = 0; row < h.vertexOfRow.size(); ++row) {
+		CVertexO& v = *h.vertexOfRow[row];
+		v.Q() = Scalarm(r.vertex_deviation[row]);
+		if (r.vertex_symmetry_id[row] < 0)
+			v.C() = vcg::Color4b(vcg::Color4b::Gray);
+		else
+			v.C().SetColorRamp(float(-range), float(range), float(r.vertex_deviation[row]));
+	}
+}
+
+/// Per-vertex Scalarm attribute `symmetry_id`, replacing one left by an earlier run
+/// (whatever its type).  Deleted vertices get -1.
+void writeSymmetryIdAttribute(CMeshO& m, const HostMesh& h, const symmetry::DetectionResult& r)
+{
+	if (vcg::tri::HasPerVertexAttribute(m, kSymmetryIdAttribute))
+		vcg::tri::Allocator<CMeshO>::DeletePerVertexAttribute(m, kSymmetryIdAttribute);
+	auto id = vcg::tri::Allocator<CMeshO>::AddPerVertexAttribute<Scalarm>(m, kSymmetryIdAttribute);
+	for (CVertexO& v : m.vert)
+		id[v] = Scalarm(-1);
+	for (size_t row = 0; row < h.vertexOfRow.size(); ++row)
+		id[*h.vertexOfRow[row]] = Scalarm(r.vertex_symmetry_id[row]);
+}
+
+MeshModel* addPatchLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& rows, const QString& name)
+{
+	MeshModel* layer = md.addNewMesh(QString(), name, false);
+	copyPatch(h, rows, layer->cm);
+#ifdef SYMMETRY_MESHLAB_2020_09
+	layer->UpdateBoxAndNormals();
+#else
+	layer->updateBoxAndNormals();
+	layer->updateDataMask();
+#endif
+	return layer;
+}
+
+// What a reported symmetry is, in words: a continuous family with its axis, or the kind of
+// the discrete transformation (a rotation whose axis it also slides along is a screw, a
+// mirror that also slides along its plane a glide reflection, a mirror composed with a turn
+// about its normal a rotoreflection).  `diagonal` sets the
+// lengths below which a slide is none.
+QString kindLabel(const symmetry::DetectedSymmetry& s, double diagonal)
+{
+	using symmetry::ContinuousKind;
+	const Eigen::Vector3d& p = s.axis_point;
+	const Eigen::Vector3d& d = s.axis_direction;
+	const QString axis = QString("point (%1, %2, %3), direction (%4, %5, %6)")
+		.arg(p.x(), 0, 'g', 4).arg(p.y(), 0, 'g', 4).arg(p.z(), 0, 'g', 4)
+		.arg(d.x(), 0, 'f', 3).arg(d.y(), 0, 'f', 3).arg(d.z(), 0, 'f', 3);
+	switch (s.continuous_kind) {
+	case ContinuousKind::Rotational: return "rotational family about the axis " + axis;
+	case ContinuousKind::Translational: return QString("translational family along (%1, %2, %3)")
+		.arg(d.x(), 0, 'f', 3).arg(d.y(), 0, 'f', 3).arg(d.z(), 0, 'f', 3);
+	case ContinuousKind::Helical: return QString("helical family about the axis %1, pitch %2% of the diagonal")
+		.arg(axis).arg(100 * s.pitch, 0, 'g', 3);
+	case ContinuousKind::Planar: return "planar family, plane through " + QString(axis).replace("direction", "normal");
+	case ContinuousKind::Spherical: return QString("spherical family, centre (%1, %2, %3)")
+		.arg(p.x(), 0, 'g', 4).arg(p.y(), 0, 'g', 4).arg(p.z(), 0, 'g', 4);
+	case ContinuousKind::Discrete: break;
+	}
+	const symmetry::Transformation& t = s.transform;
+	const double slide_floor = 1e-3 * diagonal;
+	if (std::abs(t.scale - 1) > 1e-6)
+		return QString("similarity (scale %1)").arg(t.scale, 0, 'g', 4);
+	const Eigen::Matrix3d L = t.linear();
+	if (t.reflection) {
+		// The mirror's normal n: L n = -n.  A glide slides along the plane: (t - (t.n) n).
+		Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(0.5 * (L + L.transpose()));
+		const Eigen::Vector3d n = e.eigenvectors().col(0);
+		const Eigen::Vector3d slide = t.translation - n * n.dot(t.translation);
+		if ((L * L - Eigen::Matrix3d::Identity()).norm() >= 1e-3) {
+			// Not an involution: a mirror composed with a turn about its normal.  -L is a
+			// proper rotation by 180 degrees plus that turn.
+			const double turn = 180 - Eigen::AngleAxisd(Eigen::Matrix3d(-L)).angle() * 180 / M_PI;
+			return QString("rotoreflection (mirror and turn by %1 degrees)").arg(std::abs(turn), 0, 'f', 1);
+		}
+		return slide.norm() > slide_floor ? "glide reflection" : "reflection";
+	}
+	if ((L - Eigen::Matrix3d::Identity()).norm() < 1e-6)
+		return "translation";
+	const Eigen::AngleAxisd r(L);
+	const double angle = r.angle() * 180 / M_PI;
+	const double slide = std::abs(r.axis().dot(t.translation));
+	return QString("%1 by %2 degrees").arg(slide > slide_floor ? "screw" : "rotation").arg(angle, 0, 'f', 1);
+}
+
+QString wordText(const symmetry::Word& word)
+{
+	QStringList letters;
+	for (int letter : word)
+		letters << QString("%1g%2").arg(letter < 0 ? "-" : "+").arg(std::abs(letter) - 1);
+	return letters.isEmpty() ? QString("identity") : letters.join(" ");
+}
+
+Detection runDetection(CMeshO& m, const RichParameterList& parameters, const symmetry::Progress& report,
+                       int progressEnd)
+{
+	Detection d;
+	callCore("Symmetry detection", [&] {
+		// The host turned the percentages into lengths with this diagonal; undo it the same way.
+		const double diagonal = m.bbox.IsNull() ? 0.0 : double(m.bbox.Diag());
+		d.options = symmetry_parameters::fromRichParameterList(parameters, diagonal);
+		d.options.validate();
+		d.host = copyMesh(m);
+		// The core reports on this thread only, so forwarding to MeshLab's callback is safe.
+		symmetry::Progress progress = [&report, progressEnd](int percent, const char* stage) {
+			if (report)
+				report(std::clamp(percent, 0, 100) * progressEnd / 100, stage);
+		};
+		d.result = symmetry::detect_partial_symmetries(d.host.V, d.host.F, d.options, progress);
+		checkResult(d.result, d.host.V.rows(), d.options);
+	});
+	return d;
+}
+
+
+std::vector<int> writeDetection(MeshDocument& md, MeshModel& input, const Detection& d, bool createLayers)
+{
+	const HostMesh& host = d.host;
+	const symmetry::DetectionResult& result = d.result;
+	std::vector<int> layerIds(2 * result.symmetries.size(), -1);
+	try {
+		writeQualityAndColour(input, host, result);
+		writeSymmetryIdAttribute(input.cm, host, result);
+		if (createLayers) {
+			const int inputId = int(input.id());
+			for (size_t k = 0; k < result.symmetries.size(); ++k) {
+				const symmetry::DetectedSymmetry& s = result.symmetries[k];
+				const QString name = QString("symmetry_%1_").arg(k);
+				layerIds[2 * k] = int(addPatchLayer(md, host, s.source_vertices, name + "source")->id());
+				layerIds[2 * k + 1] = int(addPatchLayer(md, host, s.target_vertices, name + "target")->id());
+			}
+			md.setCurrentMesh(inputId);
+		}
+	}
+	catch (const std::bad_alloc&) {
+		throw MLException("Symmetry detection ran out of memory while writing its results.");
+	}
+	return layerIds;
+}
+
+QStringList detectionLog(const Detection& d)
+{
+	const HostMesh& host = d.host;
+	const symmetry::DetectionOptions& options = d.options;
+	const symmetry::DetectionResult& result = d.result;
+	QStringList lines;
+	const double diagonal =
+		host.V.rows() ? (host.V.colwise().maxCoeff() - host.V.colwise().minCoeff()).norm() : 1.0;
+	for (size_t k = 0; k < result.symmetries.size(); ++k) {
+		const symmetry::DetectedSymmetry& s = result.symmetries[k];
+		const QString basis = s.continuous_kind != symmetry::ContinuousKind::Discrete
+		                          ? QString("continuous")
+		                          : QString("%1 (%2)").arg(s.is_generator ? "generator" : "compound").arg(wordText(s.word));
+		lines << QString::asprintf(
+			"Symmetry %d: %s%s; %d -> %d vertices, source area %.3g%%, deviation rms %.3g%% max %.3g%% of the "
+			"diagonal, support %d, %s",
+			int(k), qUtf8Printable(kindLabel(s, diagonal)), qUtf8Printable(transformText(s)), int(s.source_vertices.size()),
+			int(s.target_vertices.size()), 100 * s.source_area, 100 * s.rms_error, 100 * s.max_error, s.support,
+			qUtf8Printable(basis));
+	}
+	if (result.welded_vertices > 0)
+		lines << QString::asprintf(
+			"The mesh is a triangle soup (most triangles have vertices of their own): the filter welded %d "
+			"vertices lying at the same position as another on its own copy, the mesh is unchanged (Cleaning "
+			"and Repairing > Remove Duplicate Vertices welds them in the mesh itself).",
+			result.welded_vertices);
+	if (result.flipped_faces > 0)
+		lines << QString::asprintf(
+			"%d faces were turned against the others around them or inward: the filter oriented each part "
+			"coherently, closed ones outward, on its own copy, the mesh is unchanged (Normals, Curvatures and "
+			"Orientation > Re-Orient all faces coherently does this to the mesh itself).",
+			result.flipped_faces);
+	if (!result.orientable)
+		lines << "The mesh is not orientable (a Moebius band, or faces folded through non-manifold edges): it was "
+		         "analysed with its faces as they are, and symmetries where the orientation changes may be missed.";
+	if (result.working_vertices > 0)
+		lines << QString::asprintf(
+			"The mesh has %d vertices, more than the working resolution (max_working_vertices = %d): it was "
+			"analysed on a copy simplified to %d vertices, and the patches and deviations are those of the mesh "
+			"itself.",
+			int(host.V.rows()), options.working.max_vertices, result.working_vertices);
+	if (result.pair_sample_count_automatic) {
+		const symmetry::SampleSize& n = result.pair_sample_size;
+		lines << QString::asprintf(
+			"Paired samples: n' = %d of %d. The Appendix's bound (Equation 1) for patches of %.3g%% of the samples "
+			"found with probability %.3g%% (mu = %.1f points in transformation space per paired sample) %s.",
+			result.pairs_sample_count_used, result.pruned_samples, 100 * n.p, 100 * (1 - n.alpha),
+			result.partners_per_sample,
+			qUtf8Printable(n.bound_met ? QString("asks for n' = %1").arg(n.n_prime)
+			                           : QString("is not met even by pairing every sample; more samples "
+			                                     "(sample_count) would meet it")));
+		if (result.rigid_pair_sample_count > 0 && result.rigid_pair_sample_count <= result.pairs_sample_count_used)
+			lines << QString::asprintf(
+				"A restricted group pairs no more samples than rotations and reflections would (n' = %d): its "
+				"votes are those of the full group's pairs that are of its kind.",
+				result.rigid_pair_sample_count);
+	}
+	lines << QString::asprintf(
+		"%d symmetries (%d generators) from %d samples (%d after pruning), %d pairs, %d clusters; "
+		"%.2f s signatures, %.2f s pairing, %.2f s clustering, %.2f s verification",
+		int(result.symmetries.size()), result.generator_count, result.samples, result.pruned_samples, result.pairs,
+		result.clusters, result.seconds_signatures, result.seconds_pairing, result.seconds_clustering,
+		result.seconds_verification);
+	return lines;
+}
+
+Symmetrization symmetrizeMesh(CMeshO& m, const RichParameterList& parameters, const symmetry::Progress& report)
+{
+	Symmetrization s;
+	// Its own parameters first: a wrong strength is said before minutes of detection.
+	s.options = symmetry_parameters::symmetrizationOptions(parameters);
+	callCore("Symmetrization", [&] { s.options.validate(); });
+	const Detection detection = runDetection(m, parameters, report, 80);
+	s.symmetryCount = int(detection.result.symmetries.size());
+	callCore("Symmetrization", [&] {
+		if (report)
+			report(80, "Symmetrization");
+		s.moved = symmetry::symmetrize(detection.host.V, detection.host.F, detection.result,
+		                               detection.options.verification_tolerance, s.options);
+	});
+
+	// Symmetrization succeeded: from here on the mesh is written.
+	const HostMesh& host = detection.host;
+	for (Eigen::Index row = 0; row < host.V.rows(); ++row)
+		if (s.moved.V.row(row) != host.V.row(row))
+			host.vertexOfRow[size_t(row)]->P() =
+				Point3m(Scalarm(s.moved.V(row, 0)), Scalarm(s.moved.V(row, 1)), Scalarm(s.moved.V(row, 2)));
+	vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(m);
+	vcg::tri::UpdateBounding<CMeshO>::Box(m);
+	return s;
+}
+
+QString symmetrizationLog(const Symmetrization& s)
+{
+	return QString::asprintf(
+		"Symmetrized %d vertices under %d symmetries: RMS deviation from perfect symmetry %.3g%% -> %.3g%% of the "
+		"diagonal (strength %.2f, %d passes).",
+		s.moved.moved_vertices, s.symmetryCount, 100 * s.moved.rms_before, 100 * s.moved.rms_after, s.options.strength,
+		s.options.iterations);
+}
+
+}  // namespace symmetry_host

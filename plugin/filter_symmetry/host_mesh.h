@@ -1,0 +1,129 @@
+// The host side shared by the MeshLab adapters: the 2025.07 plugin (pymeshlab and the
+// GUI, filter_symmetry.cpp) and the 2020.09 plugin (meshlabserver,
+// ../meshlab_2020_09/filter_symmetry_2020.cpp).  It copies the current mesh for the core,
+// runs detection, and writes the result into the document: vertex quality and colour, the
+// `symmetry_id` attribute, patch layers, and the log lines.  Everything here compiles
+// against either MeshLab release (meshlab_api.h); what differs between them (the plugin
+// interface, returned values) stays in the adapters.
+#pragma once
+
+#include "meshlab_api.h"
+
+#include <core/detection.h>
+#include <core/symmetrization.h>
+
+#include <Eigen/Core>
+#include <new>
+#include <stdexcept>
+#include <vector>
+
+namespace symmetry_host {
+
+/// The current mesh as the core sees it: non-deleted vertices and faces, compacted.
+struct HostMesh {
+	Eigen::MatrixX3d V;                  ///< #V by 3 positions
+	Eigen::MatrixX3i F;                  ///< #F by 3 rows of V
+	std::vector<CVertexO*> vertexOfRow;  ///< the CMeshO vertex behind each row of V
+};
+
+/// The non-deleted vertices and faces of `m`.  Throws symmetry::InputError on a face that
+/// refers past the vertex array (a malformed file).
+HostMesh copyMesh(CMeshO& m);
+
+/// A result that does not fit the input would corrupt the document: refuse it before
+/// anything is written.  Throws std::logic_error (a bug in the core, not user error).
+void checkResult(const symmetry::DetectionResult& r, Eigen::Index rows, const symmetry::DetectionOptions& o);
+
+/// v.Q() = signed deviation (fraction of the diagonal); colour ramp over [-m, m],
+/// grey where no symmetry holds.
+void writeQualityAndColour(MeshModel& mm, const HostMesh& h, const symmetry::DetectionResult& r);
+
+/// Per-vertex Scalarm attribute `symmetry_id`, replacing one left by an earlier run
+/// (whatever its type).  Deleted vertices get -1.
+void writeSymmetryIdAttribute(CMeshO& m, const HostMesh& h, const symmetry::DetectionResult& r);
+
+/// A new layer `name` (not made current) holding copies of the input vertices in `rows`
+/// (with position, normal, colour, quality) and of the faces whose three vertices are all
+/// among them.
+MeshModel* addPatchLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& rows, const QString& name);
+
+// What a reported symmetry is, in words: a continuous family with its axis, or the kind of
+// the discrete transformation (a rotation whose axis it also slides along is a screw, a
+// mirror that also slides along its plane a glide reflection, a mirror composed with a turn
+// about its normal a rotoreflection).  `diagonal` sets the
+// lengths below which a slide is none.
+QString kindLabel(const symmetry::DetectedSymmetry& s, double diagonal);
+
+/// A basis word as text: "+g0 -g1", or "identity".
+QString wordText(const symmetry::Word& word);
+
+/// Calls `work` (the core), turning every failure into an MLException whose sentence starts
+/// with `task` and says that the mesh was left unchanged: nothing is written before it returns.
+template <class Work>
+void callCore(const QString& task, Work&& work)
+{
+	try {
+		work();
+	}
+	catch (const symmetry::InputError& e) {
+		throw MLException(QString::fromStdString(e.what()));
+	}
+	catch (const MLException&) {
+		throw;
+	}
+	catch (const std::bad_alloc&) {
+		throw MLException(task + " ran out of memory. The mesh was left unchanged; try fewer samples "
+		                         "(sample_count, pair_sample_count).");
+	}
+	catch (const std::exception& e) {
+		throw MLException(task + QString(" failed because of an internal error (%1). The mesh was left unchanged; "
+		                                 "please report this with the mesh and the parameters used.")
+		                             .arg(QString::fromLocal8Bit(e.what())));
+	}
+	catch (...) {
+		throw MLException(task + " failed because of an unknown internal error. The mesh was left unchanged; "
+		                         "please report this with the mesh and the parameters used.");
+	}
+}
+
+/// What detection found on the current mesh, with the mesh and options it ran on.
+struct Detection {
+	HostMesh host;
+	symmetry::DetectionOptions options;
+	symmetry::DetectionResult result;
+};
+
+/// Runs the core's detection on `m` with the filter's parameters, reporting progress
+/// through `report` (may be empty) from 0 to `progressEnd` percent, on this thread.  Writes
+/// nothing.
+Detection runDetection(CMeshO& m, const RichParameterList& parameters, const symmetry::Progress& report,
+                       int progressEnd);
+
+/// Writes a successful detection into the document: quality and colour of the input's
+/// vertices, the `symmetry_id` attribute and, if `createLayers`, the layers
+/// symmetry_k_source and symmetry_k_target (the input stays the current mesh).  Returns
+/// the layer ids, two per symmetry, -1 without layers.
+std::vector<int> writeDetection(MeshDocument& md, MeshModel& input, const Detection& d, bool createLayers);
+
+/// What the log says after a detection, one entry per line: one line per symmetry (its kind,
+/// transformation, patch sizes and deviation), what the filter did to its copy of the
+/// mesh, the n' it chose, and a summary with the stage times.
+QStringList detectionLog(const Detection& d);
+
+/// What symmetrization did to the current mesh.
+struct Symmetrization {
+	int symmetryCount = 0;                    ///< symmetries detected
+	symmetry::SymmetrizationOptions options;  ///< strength and passes used
+	symmetry::SymmetrizationResult moved;     ///< vertices moved, RMS before and after
+};
+
+/// Detects, then moves each approximately symmetric patch pair of `m` towards its exactly
+/// symmetric average (core/symmetrization.h), and updates the normals and the bounding
+/// box.  Its own parameters are checked before detection starts; `m` changes only on
+/// success (every failure is an MLException).
+Symmetrization symmetrizeMesh(CMeshO& m, const RichParameterList& parameters, const symmetry::Progress& report);
+
+/// The log line after a symmetrization.
+QString symmetrizationLog(const Symmetrization& s);
+
+}  // namespace symmetry_host

@@ -1,0 +1,143 @@
+#include "filter_symmetry_2020.h"
+
+#include <filter_symmetry/filter_texts.h>
+#include <filter_symmetry/host_mesh.h>
+#include <filter_symmetry/symmetry_parameters.h>
+
+#include <core/detection.h>
+#include <core/symmetrization.h>
+
+#include <optional>
+#include <string>
+
+namespace {
+
+/// MeshLab's progress callback as the core's.  meshlabserver prints every string it is
+/// given, with no line break and no percentage; so each stage is passed once, as a line of
+/// its own ("Symmetry detection: Verification by region growing (45%)").
+symmetry::Progress progressOf(vcg::CallBackPos* cb)
+{
+	if (cb == nullptr)
+		return {};
+	return [cb, last = std::string()](int percent, const char* stage) mutable {
+		if (last == stage)
+			return;
+		last = stage;
+		const std::string line = "Symmetry detection: " + last + " (" + std::to_string(percent) + "%)\n";
+		cb(percent, line.c_str());
+	};
+}
+
+}  // namespace
+
+FilterSymmetryPlugin::FilterSymmetryPlugin()
+{
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION};
+	for (FilterIDType id : types())
+		actionList.push_back(new QAction(filterName(id), this));
+}
+
+QString FilterSymmetryPlugin::pluginName() const
+{
+	return "FilterSymmetry";
+}
+
+QString FilterSymmetryPlugin::filterName(FilterIDType filter) const
+{
+	switch (filter) {
+	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionName();
+	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
+	default: assert(0); return QString();
+	}
+}
+
+QString FilterSymmetryPlugin::filterInfo(FilterIDType filter) const
+{
+	switch (filter) {
+	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionInfo(false);
+	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(false);
+	default: assert(0); return QString();
+	}
+}
+
+MeshFilterInterface::FilterClass FilterSymmetryPlugin::getClass(QAction* action)
+{
+	return ID(action) == FP_SYMMETRIZATION ? MeshFilterInterface::Smoothing : MeshFilterInterface::Measure;
+}
+
+MeshFilterInterface::FILTER_ARITY FilterSymmetryPlugin::filterArity(QAction*) const
+{
+	return SINGLE_MESH;
+}
+
+int FilterSymmetryPlugin::getPreConditions(QAction*) const
+{
+	return MeshModel::MM_NONE;
+}
+
+int FilterSymmetryPlugin::postCondition(QAction* action) const
+{
+	if (ID(action) == FP_SYMMETRIZATION)
+		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
+	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+}
+
+void FilterSymmetryPlugin::initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters)
+{
+	const double diagonal = m.cm.bbox.Diag();
+	switch (ID(action)) {
+	case FP_PARTIAL_SYMMETRIES:
+		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, true, parameters);
+		break;
+	case FP_SYMMETRIZATION:
+		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters);
+		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
+		break;
+	default: assert(0);
+	}
+}
+
+bool FilterSymmetryPlugin::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
+                                       vcg::CallBackPos* cb)
+{
+	// 2020.09's hosts do not catch exceptions from a filter: every failure becomes the
+	// boolean and the sentence this interface has for it.
+	try {
+		switch (ID(action)) {
+		case FP_PARTIAL_SYMMETRIES: detectPartialSymmetries(md, parameters, cb); break;
+		case FP_SYMMETRIZATION: symmetrize(md, parameters, cb); break;
+		default: throw MLException("Unknown filter of the symmetry plugin.");
+		}
+		return true;
+	}
+	catch (const std::exception& e) {  // MLException, with the sentence for the user
+		errorMessage = QString::fromLocal8Bit(e.what());
+	}
+	catch (...) {
+		errorMessage = "The symmetry filter failed because of an unknown internal error. The mesh was left unchanged.";
+	}
+	Log(GLLogStream::WARNING, qUtf8Printable(errorMessage));
+	return false;
+}
+
+void FilterSymmetryPlugin::detectPartialSymmetries(MeshDocument& md, const RichParameterList& parameters,
+                                                   vcg::CallBackPos* cb)
+{
+	MeshModel* input = md.mm();
+	if (input == nullptr)
+		throw MLException("There is no current mesh to detect symmetries on.");
+	const symmetry_host::Detection detection = symmetry_host::runDetection(input->cm, parameters, progressOf(cb), 100);
+	// Detection succeeded: from here on the document is written.
+	symmetry_host::writeDetection(md, *input, detection, symmetry_parameters::createPatchLayers(parameters));
+	for (const QString& line : symmetry_host::detectionLog(detection))
+		Log(qUtf8Printable(line));
+}
+
+void FilterSymmetryPlugin::symmetrize(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* input = md.mm();
+	if (input == nullptr)
+		throw MLException("There is no current mesh to symmetrize.");
+	const symmetry_host::Symmetrization done = symmetry_host::symmetrizeMesh(input->cm, parameters, progressOf(cb));
+	Log(qUtf8Printable(symmetry_host::symmetrizationLog(done)));
+}

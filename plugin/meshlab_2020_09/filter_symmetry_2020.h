@@ -1,0 +1,46 @@
+// MeshLab 2020.09 adapter, for Debian 12's meshlabserver (headless batch jobs with filter
+// scripts).  The same filters as the 2025.07 adapter (../filter_symmetry), over the same
+// core and the same host-side helpers (../filter_symmetry/host_mesh.h); only the plugin
+// interface differs: 2020.09's MeshFilterInterface returns a bool and no values, and says
+// why it failed in errorMessage and the log.  It holds no algorithm.
+#pragma once
+
+#include <filter_symmetry/meshlab_api.h>
+
+class FilterSymmetryPlugin : public QObject, public MeshFilterInterface
+{
+	Q_OBJECT
+	MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
+	Q_INTERFACES(MeshFilterInterface)
+
+public:
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION };
+
+	FilterSymmetryPlugin();
+
+	/// "FilterSymmetry".
+	QString pluginName() const override;
+	/// The menu entries, the names a filter script (.mlx) uses: "Detect Partial and
+	/// Approximate Symmetries" and "Symmetrize Approximate Symmetries".
+	QString filterName(FilterIDType filter) const override;
+	/// Paper reference and the meaning of every output written to the mesh.
+	QString filterInfo(FilterIDType filter) const override;
+	FilterClass getClass(QAction* action) override;
+	/// SINGLE_MESH: the current mesh is the input.
+	FILTER_ARITY filterArity(QAction* action) const override;
+	/// None: the core itself refuses what it cannot analyse, saying what to do.
+	int getPreConditions(QAction* action) const override;
+	/// Detection: vertex quality and colour.  Symmetrization: positions and normals.
+	int postCondition(QAction* action) const override;
+	/// The parameters in their public order (the names a filter script uses), defaults
+	/// from symmetry::DetectionOptions.
+	void initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters) override;
+	/// Runs the filter; on failure returns false, with the reason in errorMessage and in
+	/// the log (meshlabserver prints the log, not errorMessage), the document unchanged.
+	bool applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
+	                 vcg::CallBackPos* cb) override;
+
+private:
+	void detectPartialSymmetries(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+	void symmetrize(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+};

@@ -1,0 +1,79 @@
+"""MeshLab filter scripts (.mlx) that run the symmetry filter headless in meshlabserver.
+
+meshlabserver exists only in MeshLab up to 2020.09 (Debian 12's ``meshlab`` package), and
+its script reader needs every parameter of a filter in the script (it aborts on an
+assertion when one is missing).  A length parameter of a 2020.09 script
+(``RichAbsPerc``) holds an absolute length, not a percentage, so a script made for one
+mesh measures in that mesh's units: :func:`meshlabserver_script` writes one from the
+bounding-box diagonal of the mesh it is meant for, with detect's parameters in detect's
+units (lengths as fractions of that diagonal)::
+
+    meshlab-symmetry script model.ply -o detect.mlx --verification-tolerance 0.02
+    xvfb-run -a meshlabserver -i model.ply -o out.ply -m vq vc -s detect.mlx
+"""
+from typing import Any
+from xml.sax.saxutils import quoteattr
+
+from .api import GROUPS, PARAMETERS, _group_index
+
+#: the menu entry of the detection filter, the name a filter script uses
+DETECTION_FILTER = "Detect Partial and Approximate Symmetries"
+
+# The display names of transformation_group's values, as the plugin lists them
+# (symmetry_parameters.cpp); a script carries them, the filter reads only the index.
+_GROUP_NAMES = ("Rotations, reflections and translations (rigid, 6-D)",
+                "Similarities: rigid plus uniform scale (7-D)",
+                "Reflections only",
+                "Translations only")
+assert len(_GROUP_NAMES) == len(GROUPS)
+
+
+def meshlabserver_script(diagonal: float, create_patch_layers: bool = False, **parameters: Any) -> str:
+    """The text of a MeshLab 2020.09 filter script that runs "Detect Partial and
+    Approximate Symmetries" on a mesh whose bounding-box diagonal is ``diagonal``, with
+    detect's parameters (any not given keeps detect's default; lengths are fractions of the
+    diagonal, min_patch_area a fraction of the area).  ``create_patch_layers`` adds the
+    patch layers (meshlabserver saves only the current mesh, the input).
+
+    Raises ValueError for a diagonal that is not a positive number or an unknown parameter.
+    """
+    if not diagonal > 0:
+        raise ValueError(f"the diagonal is {diagonal}; a filter script needs the positive bounding-box diagonal "
+                         "of the mesh it is for")
+    known = {p.name for p in PARAMETERS}
+    unknown = sorted(set(parameters) - known)
+    if unknown:
+        raise ValueError(f"unknown parameter(s) {', '.join(unknown)}; detect takes {', '.join(sorted(known))}")
+    lines = ["<!DOCTYPE FilterScript>", "<FilterScript>", f" <filter name={quoteattr(DETECTION_FILTER)}>"]
+    for p in PARAMETERS:
+        if p.name == "random_seed":  # the filter's order has create_patch_layers before it
+            lines.append("  " + _element("create_patch_layers", "RichBool", "true" if create_patch_layers else "false"))
+        lines.append("  " + _param(p, parameters.get(p.name, p.default), diagonal))
+    lines += [" </filter>", "</FilterScript>", ""]
+    return "\n".join(lines)
+
+
+def _param(p, value, diagonal):
+    if p.convert == "group":
+        index = _group_index(value)
+        extra = {"enum_cardinality": str(len(_GROUP_NAMES)),
+                 **{f"enum_val{i}": name for i, name in enumerate(_GROUP_NAMES)}}
+        return _element(p.name, "RichEnum", str(index), extra)
+    if p.convert == "length":
+        if not 0 <= value <= 1:
+            raise ValueError(f"{p.name} is {value}, but it is a fraction of the bounding-box diagonal, between 0 and 1")
+        return _element(p.name, "RichAbsPerc", repr(float(value) * diagonal), {"min": "0", "max": repr(float(diagonal))})
+    if p.convert == "area":
+        return _element(p.name, "RichFloat", repr(100.0 * float(value)))
+    if isinstance(p.default, bool):
+        return _element(p.name, "RichBool", "true" if value else "false")
+    if isinstance(p.default, int):
+        if isinstance(value, bool) or int(value) != value:
+            raise ValueError(f"{p.name} is {value!r}, but it is a whole number")
+        return _element(p.name, "RichInt", str(int(value)))
+    return _element(p.name, "RichFloat", repr(float(value)))
+
+
+def _element(name, kind, value, extra=None):
+    attributes = {"name": name, "type": kind, "value": value, **(extra or {})}
+    return "<Param " + " ".join(f"{k}={quoteattr(v)}" for k, v in attributes.items()) + "/>"
