@@ -25,6 +25,11 @@ writes a filter script for Debian 12's meshlabserver (MeshLab 2020.09) that runs
 with these parameters, its lengths made absolute for the diagonal of MESH
 (meshlab_symmetry.filter_script).
 
+    meshlab-symmetry batch INPUT... -o OUTDIR [--jobs N | --scheduler ADDRESS] [parameters]
+
+runs the core over many meshes in parallel worker processes (or a Dask cluster), resumable,
+one JSON per mesh plus summary.csv (meshlab_symmetry.batch).
+
 Every form reports an error as one line on stderr and exits non-zero.
 """
 import argparse
@@ -110,6 +115,8 @@ def main(argv=None):
         return _detect_command(argv[1:])
     if argv and argv[0] == "script":
         return _script_command(argv[1:])
+    if argv and argv[0] == "batch":
+        return _batch_command(argv[1:])
     return _prefix_command(argv)
 
 
@@ -201,6 +208,49 @@ def _script_command(argv):
         return 1
     print(f"wrote {args.output} (lengths for a bounding-box diagonal of {diagonal:.6g})")
     return 0
+
+
+def _batch_command(argv):
+    """`meshlab-symmetry batch INPUT... -o OUTDIR`: every mesh, in parallel, resumable
+    (meshlab_symmetry.batch)."""
+    from . import batch
+    parser = _OneLineParser(
+        prog=f"{PROG} batch",
+        description="Detect symmetries in many meshes: files, folders (searched recursively for "
+                    f"{', '.join(batch.MESH_EXTENSIONS)}) and glob patterns. Writes OUTDIR/<path relative to its input>.json "
+                    "(the result, as `detect` writes symmetries.json) per mesh and OUTDIR/summary.csv. Meshes whose JSON "
+                    "is already in OUTDIR are skipped, so a stopped batch resumes; a mesh that fails is reported in the "
+                    "summary and the others go on.")
+    parser.add_argument("inputs", nargs="+", metavar="INPUT", help="mesh file, folder or glob pattern")
+    parser.add_argument("-o", "--output-dir", required=True, metavar="OUTDIR", help="where the results go")
+    parser.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
+                        help="local worker processes, each running the core on one thread (default: one per core)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run on the workers of this Dask distributed scheduler (tcp://host:8786) instead of "
+                             "local processes; the workers need this package and must read the input paths")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=True,
+                        help="a progress line on stderr, redrawn on a terminal (default: %(default)s)")
+    _add_parameter_options(parser)
+    args = parser.parse_args(argv)
+    if args.jobs is not None and args.jobs < 1:
+        parser.error(f"--jobs is {args.jobs}, but it must be at least 1")
+    parameters = {p.name: getattr(args, p.name) for p in PARAMETERS}
+    parameters["transformation_group"] = GROUPS[args.transformation_group]
+    try:
+        outcomes = batch.run_batch(args.inputs, args.output_dir, parameters, jobs=args.jobs,
+                                   scheduler=args.scheduler,
+                                   on_outcome=batch.ProgressLine(sys.stderr) if args.progress else None)
+    except (OSError, ValueError, RuntimeError) as e:
+        print(f"{PROG}: error: {_error_message(e)}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"\n{PROG}: interrupted; the results written so far stay, and a rerun resumes from them",
+              file=sys.stderr)
+        return 130
+    counts = {status: sum(o.status == status for o in outcomes) for status in ("done", "skipped", "failed")}
+    print(f"{counts['done']} analysed, {counts['skipped']} already done, {counts['failed']} failed; "
+          f"results and {batch.SUMMARY} in {args.output_dir}")
+    return 1 if counts["failed"] else 0
 
 
 def _detect_parser():
