@@ -16,7 +16,7 @@ DEB_PACKAGES := g++ cmake ninja-build python3-venv python3-dev libeigen3-dev lib
 
 DEMO_MESH := meshes/demo.ply
 
-.PHONY: all setup build meshlabserver-plugin demo test test-sanitize benchmark clean
+.PHONY: all setup build meshlabserver-plugin meshlab demo test test-sanitize benchmark clean
 all: build
 
 setup: $(STAMPS)/apt $(STAMPS)/venv third_party/meshlab/.verified
@@ -66,11 +66,31 @@ meshlabserver-plugin: setup $(STAMPS)/apt-meshlabserver third_party/meshlab-2020
 	  || { cat $(MESHLAB_2020_BUILD).configure.log; exit 1; }
 	@cmake --build $(MESHLAB_2020_BUILD)
 
+# MeshLab 2025.07's GUI with this plugin (issue 7), built by MeshLab's own CMake from the same
+# checksummed source: the plugin folder plugin/meshlab_gui is linked into MeshLab's tree and
+# named in MESHLAB_PLUGINS, as MeshLab builds its own plugins; MESHLAB_BUILD_MINI builds only
+# the targets named, here the application, the io plugin for PLY/OBJ/OFF/STL and ours.
+# Single precision, MeshLab's default: build/meshlab-2025.07/src/distrib/plugins/libfilter_symmetry.so
+# is also the file to drop into an installed MeshLab 2025.07 (README, "In MeshLab's GUI").
+MESHLAB_GUI_BUILD := $(BUILD)/meshlab-2025.07
+GUI_TEST_DEB_PACKAGES := xvfb xauth xdotool
+$(STAMPS)/apt-gui: scripts/install_debian_packages.sh $(STAMPS)/apt
+	@scripts/install_debian_packages.sh $(GUI_TEST_DEB_PACKAGES)
+	@touch $@
+
+meshlab: setup $(STAMPS)/apt-gui
+	@ln -sfn $(ROOT)/plugin/meshlab_gui third_party/meshlab/src/meshlabplugins/filter_symmetry
+	@mkdir -p $(BUILD)
+	@cmake -S third_party/meshlab -B $(MESHLAB_GUI_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev \
+	  -DMESHLAB_BUILD_MINI=ON "-DMESHLAB_PLUGINS=meshlabplugins/io_base;meshlabplugins/filter_symmetry" \
+	  > $(MESHLAB_GUI_BUILD).configure.log 2>&1 || { cat $(MESHLAB_GUI_BUILD).configure.log; exit 1; }
+	@cmake --build $(MESHLAB_GUI_BUILD) --target meshlab io_base filter_symmetry
+
 DEMO_OUT := meshes/demo_report
 demo: build
 	$(PY) -m meshlab_symmetry detect $(DEMO_MESH) -o $(DEMO_OUT) --report
 
-test: build meshlabserver-plugin
+test: build meshlabserver-plugin meshlab
 	cd $(BUILD) && ctest --output-on-failure -j2
 	$(PY) -m pytest -q tests/python
 

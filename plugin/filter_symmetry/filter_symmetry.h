@@ -32,8 +32,8 @@ public:
 	FilterArity filterArity(const QAction* action) const override;
 	/// None: the core itself refuses what it cannot analyse, saying what to do (a point cloud).
 	int getPreConditions(const QAction* action) const override;
-	/// Detection: vertex quality and colour (new layers are added but never modified
-	/// afterwards).  Symmetrization: vertex positions and normals.
+	/// Detection: vertex quality and colour, and vertex and face numbers for the layers it
+	/// adds (so the GUI offers no preview).  Symmetrization: vertex positions and normals.
 	int postCondition(const QAction* action) const override;
 	/// The parameters in their public order, defaults from symmetry::DetectionOptions.
 	RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;

@@ -283,14 +283,18 @@ std::vector<int> writeDetection(MeshDocument& md, MeshModel& input, const Detect
 		writeQualityAndColour(input, host, result);
 		writeSymmetryIdAttribute(input.cm, host, result);
 		if (createLayers) {
-			const int inputId = int(input.id());
 			for (size_t k = 0; k < result.symmetries.size(); ++k) {
 				const symmetry::DetectedSymmetry& s = result.symmetries[k];
 				const QString name = QString("symmetry_%1_").arg(k);
 				layerIds[2 * k] = int(addPatchLayer(md, host, s.source_vertices, name + "source")->id());
 				layerIds[2 * k + 1] = int(addPatchLayer(md, host, s.target_vertices, name + "target")->id());
 			}
-			md.setCurrentMesh(inputId);
+			// The layers were added without becoming current.  Setting the current mesh again
+			// anyway would be harmful: in the GUI it signals a change of current mesh, on which
+			// the filter's dialog puts back the state the mesh had before the filter (its
+			// colours and quality), as it does when the user picks another layer.
+			if (md.mm() != &input)
+				md.setCurrentMesh(int(input.id()));
 		}
 	}
 	catch (const std::bad_alloc&) {

@@ -79,7 +79,10 @@ int FilterSymmetryPlugin::postCondition(QAction* action) const
 {
 	if (ID(action) == FP_SYMMETRIZATION)
 		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
-	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+	// Detection also adds the patch layers, meshes of their own: saying so (vertex and face
+	// numbers) keeps the GUI from offering a preview, which would run the detection again
+	// and add another set of layers at every change of a parameter.
+	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
 }
 
 void FilterSymmetryPlugin::initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters)
