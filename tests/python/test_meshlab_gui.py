@@ -4,9 +4,11 @@
 and the io plugins (build/meshlab-2025.07/src/distrib).  This test starts it under Xvfb with
 software OpenGL on a scene with a planted mirror, finds "Detect Partial and Approximate
 Symmetries" with MeshLab's filter search (Ctrl+F, as a user looking for it would), applies
-it with its defaults from the parameter dialog, then saves the project (Ctrl+S) and checks
+it with its defaults from the parameter dialog, saves the filter script (Filters > Show current
+filter script > Save Script), exports the mesh and saves the project (Ctrl+S), and checks
 what the document holds: the patch layers, and the input mesh's vertex quality and colours
-against the planted mirror (MeshLab asks for every new layer's file before it saves a project:
+against the planted mirror, and that the saved script replays through pymeshlab with the
+same result (MeshLab asks for every new layer's file before it saves a project:
 the test answers each dialog as a user would).  Every step's screenshot is kept in build/gui-screenshots/ (the
 test's artifacts; the README shows one).
 
@@ -181,6 +183,25 @@ def _wait_for(gui, predicate, what, timeout=120):
         time.sleep(0.5)
 
 
+def _save_filter_script(gui, main, path):
+    """Filters > Show current filter script (the menu's second entry), Save Script, `path`."""
+    gui.focus(main)
+    gui.keys("alt+l")  # Fi&lters; its first entry is highlighted
+    gui.keys("Down", "Return")
+    dialog = gui.wait_for_window("^Dialog$", timeout=60)
+    gui.screenshot("filter_script_dialog")
+    x, y, width, height = gui.geometry(dialog)
+    gui.xdotool("mousemove", str(x + 51), str(y + height - 27), "click", "1")  # Save Script, bottom left
+    save = gui.wait_for_window("Save Filter Script File", timeout=60)
+    gui.focus(save)
+    gui.keys("ctrl+a")
+    gui.type(path)
+    gui.keys("Return")
+    _wait_for(gui, lambda: os.path.exists(path) and os.path.getsize(path) > 0, f"file {path}")
+    gui.focus(dialog)
+    gui.keys("Escape")
+
+
 def _export_current_mesh(gui, main, path):
     """File > Export Mesh As (Ctrl+Shift+E) of the current mesh to `path`, default options."""
     gui.focus(main)
@@ -244,6 +265,8 @@ def test_filter_runs_from_the_filters_menu_search(gui_prerequisites, tmp_path):
         time.sleep(3)
         gui.screenshot("mesh_loaded")
         _apply_from_search(gui, main)
+        script = str(tmp_path / "gui_saved.mlx")
+        _save_filter_script(gui, main, script)
         exported = str(tmp_path / "exported.ply")
         _export_current_mesh(gui, main, exported)
         asked = _save_project(gui, main, project, str(layer_dir))
@@ -284,3 +307,16 @@ def test_filter_runs_from_the_filters_menu_search(gui_prerequisites, tmp_path):
     for side in ("symmetry_0_source", "symmetry_0_target"):
         ms.load_new_mesh(files[side])
         assert ms.current_mesh().vertex_number() > 0.4 * len(planted.source_vertices)
+
+    # The filter script the GUI saved replays headless through pymeshlab with the GUI's
+    # result: the same layers, the same deviations (the GUI's in single precision).
+    import meshlab_symmetry  # noqa: F401  (the plugin, in pymeshlab)
+    replay_mesh = str(tmp_path / "replay.ply")
+    scene.save(replay_mesh)
+    replay = pymeshlab.MeshSet()
+    replay.load_new_mesh(replay_mesh)
+    replay.load_filter_script(script)
+    replay.apply_filter_script()
+    assert replay.mesh_number() == len(labels)
+    replay.set_current_mesh(0)
+    np.testing.assert_allclose(replay.current_mesh().vertex_scalar_array(), quality, atol=1e-6)
