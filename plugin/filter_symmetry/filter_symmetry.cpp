@@ -160,28 +160,24 @@ int FilterSymmetryPlugin::getPreConditions(const QAction*) const
 
 int FilterSymmetryPlugin::postCondition(const QAction* action) const
 {
-	if (ID(action) == FP_SYMMETRIZATION)
-		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
-	// Detection also adds the patch layers, meshes of their own: saying so (vertex and face
-	// numbers) keeps the GUI from offering a preview, which would run the detection again
-	// and add another set of layers at every change of a parameter.
-	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
+	return symmetry_host::changedData(filterOf(action));
 }
 
 RichParameterList FilterSymmetryPlugin::initParameterList(const QAction* action, const MeshModel& m)
 {
 	RichParameterList parameters;
+	symmetry_host::appendParameters(filterOf(action), m.cm.bbox.Diag(), parameters);
+	return parameters;
+}
+
+symmetry_host::Filter FilterSymmetryPlugin::filterOf(const QAction* action) const
+{
 	switch (ID(action)) {
-	case FP_PARTIAL_SYMMETRIES:
-		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), m.cm.bbox.Diag(), true, parameters);
-		break;
-	case FP_SYMMETRIZATION:
-		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), m.cm.bbox.Diag(), std::nullopt, parameters);
-		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
-		break;
+	case FP_PARTIAL_SYMMETRIES: return symmetry_host::Filter::Detection;
+	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
 	default: wrongActionCalled(action);
 	}
-	return parameters;
+	return symmetry_host::Filter::Detection;
 }
 
 std::map<std::string, QVariant> FilterSymmetryPlugin::applyFilter(

@@ -7,6 +7,10 @@
 
 #include <common/plugins/interfaces/filter_plugin.h>
 
+namespace symmetry_host {
+enum class Filter;  // host_mesh.h
+}
+
 class FilterSymmetryPlugin : public QObject, public FilterPlugin
 {
 	Q_OBJECT
@@ -54,4 +58,7 @@ private:
 	/// symmetric average (core/symmetrization.h).  The mesh is changed only on success.
 	std::map<std::string, QVariant> symmetrize(
 		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+
+	/// Which of the two filters `action` is (host_mesh.h's Filter).
+	symmetry_host::Filter filterOf(const QAction* action) const;
 };

@@ -73,6 +73,26 @@ QString transformText(const symmetry::DetectedSymmetry& s)
 
 }  // namespace
 
+int changedData(Filter filter)
+{
+	if (filter == Filter::Symmetrization)
+		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
+	// Detection also adds the patch layers, meshes of their own: saying so (vertex and face
+	// numbers) keeps the GUI from offering a preview, which would run the detection again
+	// and add another set of layers at every change of a parameter.
+	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
+}
+
+void appendParameters(Filter filter, double diagonal, RichParameterList& parameters)
+{
+	if (filter == Filter::Detection) {
+		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, true, parameters);
+		return;
+	}
+	symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters);
+	symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
+}
+
 HostMesh copyMesh(CMeshO& m)
 {
 	HostMesh h;

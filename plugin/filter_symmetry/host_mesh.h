@@ -19,6 +19,17 @@
 
 namespace symmetry_host {
 
+/// The two filters every adapter offers.
+enum class Filter { Detection, Symmetrization };
+
+/// What `filter` changes in the document, as MeshLab's data mask (the same in every
+/// release): the adapters' postCondition.
+int changedData(Filter filter);
+
+/// The parameters of `filter`, in their public order, defaults from the core's options;
+/// `diagonal` is that of the mesh the dialog opens on.  The adapters' parameter list.
+void appendParameters(Filter filter, double diagonal, RichParameterList& parameters);
+
 /// The current mesh as the core sees it: non-deleted vertices and faces, compacted.
 struct HostMesh {
 	Eigen::MatrixX3d V;                  ///< #V by 3 positions

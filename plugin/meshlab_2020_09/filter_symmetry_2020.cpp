@@ -77,27 +77,17 @@ int FilterSymmetryPlugin::getPreConditions(QAction*) const
 
 int FilterSymmetryPlugin::postCondition(QAction* action) const
 {
-	if (ID(action) == FP_SYMMETRIZATION)
-		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
-	// Detection also adds the patch layers, meshes of their own: saying so (vertex and face
-	// numbers) keeps the GUI from offering a preview, which would run the detection again
-	// and add another set of layers at every change of a parameter.
-	return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
+	return symmetry_host::changedData(filterOf(action));
 }
 
 void FilterSymmetryPlugin::initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters)
 {
-	const double diagonal = m.cm.bbox.Diag();
-	switch (ID(action)) {
-	case FP_PARTIAL_SYMMETRIES:
-		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, true, parameters);
-		break;
-	case FP_SYMMETRIZATION:
-		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters);
-		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
-		break;
-	default: assert(0);
-	}
+	symmetry_host::appendParameters(filterOf(action), m.cm.bbox.Diag(), parameters);
+}
+
+symmetry_host::Filter FilterSymmetryPlugin::filterOf(QAction* action) const
+{
+	return ID(action) == FP_SYMMETRIZATION ? symmetry_host::Filter::Symmetrization : symmetry_host::Filter::Detection;
 }
 
 bool FilterSymmetryPlugin::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,

@@ -7,6 +7,10 @@
 
 #include <filter_symmetry/meshlab_api.h>
 
+namespace symmetry_host {
+enum class Filter;  // host_mesh.h
+}
+
 class FilterSymmetryPlugin : public QObject, public MeshFilterInterface
 {
 	Q_OBJECT
@@ -43,4 +47,7 @@ public:
 private:
 	void detectPartialSymmetries(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 	void symmetrize(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+
+	/// Which of the two filters `action` is (host_mesh.h's Filter).
+	symmetry_host::Filter filterOf(QAction* action) const;
 };
