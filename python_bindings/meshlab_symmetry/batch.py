@@ -232,25 +232,22 @@ def run_batch(inputs: Sequence[str], output_dir: str, parameters: dict[str, Any]
             outcomes[job] = skipped
         else:
             todo.append(job)
-    finished = len(outcomes)
-    if on_outcome:
-        for outcome in list(outcomes.values()):
+    finished = 0
+    for outcome in outcomes.values():  # the skipped ones, counted up one by one
+        finished += 1
+        if on_outcome:
             on_outcome(outcome, finished, len(all_jobs))
+    _write_summary(output_dir, all_jobs, outcomes)
     if todo:
         workers = max(1, min(jobs or os.cpu_count() or 1, len(todo)))
         results = (_dask_results(todo, parameters, scheduler) if scheduler
                    else _local_results(todo, parameters, workers))
-        try:
-            for job, answer in results:
-                outcomes[job] = _record(job, answer, output_dir)
-                finished += 1
-                if on_outcome:
-                    on_outcome(outcomes[job], finished, len(all_jobs))
-                _write_summary(output_dir, all_jobs, outcomes)
-        finally:
-            _write_summary(output_dir, all_jobs, outcomes)
-    else:
-        _write_summary(output_dir, all_jobs, outcomes)
+        for job, answer in results:
+            outcomes[job] = _record(job, answer, output_dir)
+            finished += 1
+            if on_outcome:
+                on_outcome(outcomes[job], finished, len(all_jobs))
+            _write_summary(output_dir, all_jobs, outcomes)  # after every mesh: a stopped batch keeps it
     return [outcomes[job] for job in all_jobs if job in outcomes]
 
 

@@ -28,6 +28,9 @@ import pytest
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import scenes  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(__file__))
+from conftest import skip_unless_ci  # noqa: E402
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 MESHLAB = os.path.join(ROOT, "build", "meshlab-2025.07", "src", "distrib", "meshlab")
 SCREENSHOTS = os.path.join(ROOT, "build", "gui-screenshots")
@@ -133,11 +136,7 @@ class Gui:
 
 @pytest.fixture(scope="module")
 def gui_prerequisites():
-    reason = _missing()
-    if reason:
-        if os.environ.get("CI") == "true":
-            pytest.fail(reason)
-        pytest.skip(reason)
+    skip_unless_ci(_missing())
 
 
 def _apply_from_search(gui, main):

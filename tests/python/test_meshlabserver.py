@@ -23,6 +23,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import metrics  # noqa: E402
 import scenes  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(__file__))
+from conftest import skip_unless_ci  # noqa: E402
+
 from meshlab_symmetry.filter_script import meshlabserver_script  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -48,11 +51,7 @@ def _missing():
 def installed_plugin():
     """The 2020.09 plugin in meshlabserver's plugin folder for this module's tests; the
     folder is left as it was found."""
-    reason = _missing()
-    if reason:
-        if os.environ.get("CI") == "true":
-            pytest.fail(reason)
-        pytest.skip(reason)
+    skip_unless_ci(_missing())
     before = None
     if os.path.exists(INSTALLED):
         with open(INSTALLED, "rb") as f:
