@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
+#include <unordered_map>
 
 namespace symmetry {
 
@@ -146,15 +148,173 @@ void find_modes(const KdTree& tree, const std::vector<int>& density, const std::
     }
 }
 
-// The density of the points whose `stale` flag is set, counted again.  Each point's count
-// is its own entry: the same at any thread count.
+// The points bucketed into cells of side h along a few of their coordinates: the three of
+// the translation, then the rotation entries that vary most (MeanShiftOptions::grid_axes
+// in all).  Two points within h of each other are within h along each axis, so a point's
+// neighbours lie in its own cell or the ones next to it (3^axes cells), the same for every
+// point of the cell: a density is counted by scanning those, with no tree to descend.  In
+// 13 dimensions a kd-tree's ball of radius h overlaps most cells it could prune, and where
+// the votes crowd (a facade's 120 copies) it visits many leaves for each sparse point.
+class CellGrid {
+public:
+    CellGrid(const KdTree::Points& points, double side, int axes) : points_(points), side_(side) {
+        choose_axes(axes);
+        const Eigen::Index n = points.rows();
+        std::vector<int64_t> low(axes_.size(), INT64_MAX), high(axes_.size(), INT64_MIN);
+        for (Eigen::Index i = 0; i < n; ++i)
+            for (size_t a = 0; a < axes_.size(); ++a) {
+                if (!std::isfinite(points(i, axes_[a]))) return;  // not usable(): no cell holds it
+                low[a] = std::min(low[a], index_along(points.row(i).data(), a));
+                high[a] = std::max(high[a], index_along(points.row(i).data(), a));
+            }
+        for (size_t a = 0; a < axes_.size(); ++a)
+            if (high[a] - low[a] + 3 > kCellsPerAxis) return;  // not usable(): a key would wrap
+        low_ = low;
+        std::vector<std::pair<uint64_t, int>> keyed(static_cast<size_t>(n));
+        for (Eigen::Index i = 0; i < n; ++i) keyed[size_t(i)] = {key_of(points.row(i).data()), int(i)};
+        std::sort(keyed.begin(), keyed.end());
+        members_.reserve(size_t(n));
+        for (size_t k = 0; k < keyed.size(); ++k) {
+            if (k == 0 || keyed[k].first != keyed[k - 1].first) {
+                index_[keyed[k].first] = int(starts_.size());
+                starts_.push_back(int(k));
+                keys_.push_back(keyed[k].first);
+            }
+            members_.push_back(keyed[k].second);
+        }
+        starts_.push_back(int(members_.size()));
+    }
+
+    /// False when the points spread over too many cells for a key (a bandwidth far below
+    /// the spread of Γ), or a coordinate is not finite: the caller counts with the tree.
+    bool usable() const { return !low_.empty(); }
+    int cell_count() const { return int(keys_.size()); }
+    /// The points of cell c, as a range of member().
+    std::pair<int, int> cell(int c) const { return {starts_[size_t(c)], starts_[size_t(c) + 1]}; }
+    int member(int m) const { return members_[size_t(m)]; }
+
+    /// The non-empty cells around cell c (its own first, where a dense neighbourhood reaches
+    /// the cap soonest), as ranges of member(); returns how many points they hold.
+    int neighbourhood(int c, std::vector<std::pair<int, int>>& ranges) const {
+        ranges.clear();
+        int total = 0;
+        int around = 1;
+        for (size_t a = 0; a < axes_.size(); ++a) around *= 3;
+        const int middle = around / 2;  // every offset 0: the cell itself
+        for (int k = 0; k < around; ++k) {
+            const int n = k == 0 ? middle : (k <= middle ? k - 1 : k);
+            uint64_t key = keys_[size_t(c)];
+            int64_t shift = 0;
+            // Offsets in -1..1 per axis; the construction keeps every neighbour's index in
+            // range, so adding to the packed key is adding to each axis's field.
+            for (int a = int(axes_.size()) - 1, rest = n; a >= 0; --a, rest /= 3)
+                shift += int64_t(rest % 3 - 1) * (int64_t(1) << (kBitsPerAxis * (int(axes_.size()) - 1 - a)));
+            key = uint64_t(int64_t(key) + shift);
+            auto it = index_.find(key);
+            if (it == index_.end()) continue;
+            ranges.push_back(cell(it->second));
+            total += ranges.back().second - ranges.back().first;
+        }
+        return total;
+    }
+
+    /// The points within h of `query` among those ranges, counted up to `cap`:
+    /// KdTree::count_within, by scanning.  The squared distance is summed as nanoflann's L2
+    /// metric sums it (four terms at a time), so the count is the tree's, comparison for comparison.
+    int count_within(const double* query, const std::vector<std::pair<int, int>>& ranges, int cap) const {
+        const double h2 = side_ * side_;
+        const int dimension = int(points_.cols());
+        int count = 0;
+        for (const auto& [begin, end] : ranges)
+            for (int m = begin; m < end; ++m) {
+                const double* p = points_.row(members_[size_t(m)]).data();
+                double d2 = 0;
+                int d = 0;
+                for (; d + 3 < dimension; d += 4) {
+                    const double a = query[d] - p[d], b = query[d + 1] - p[d + 1], c = query[d + 2] - p[d + 2],
+                                 e = query[d + 3] - p[d + 3];
+                    d2 += a * a + b * b + c * c + e * e;
+                }
+                for (; d < dimension; ++d) d2 += (query[d] - p[d]) * (query[d] - p[d]);
+                if (d2 < h2 && ++count >= cap) return cap;
+            }
+        return count;
+    }
+
+private:
+    static constexpr int kTranslationAxes = 3;
+    static constexpr int kMaxAxes = 6;
+    static constexpr int kBitsPerAxis = 10;  // 6 axes in a 64-bit key
+    static constexpr int64_t kCellsPerAxis = int64_t(1) << kBitsPerAxis;
+
+    // The translation's axes, then the other coordinates of largest variance.
+    void choose_axes(int axes) {
+        const int dimension = int(points_.cols());
+        axes = std::max(1, std::min({axes, dimension, kMaxAxes}));
+        std::vector<std::pair<double, int>> spread;
+        for (int d = kTranslationAxes; d < dimension; ++d) {
+            const double mean = points_.col(d).mean();
+            spread.push_back({-(points_.col(d).array() - mean).square().sum(), d});
+        }
+        std::sort(spread.begin(), spread.end());
+        for (int d = 0; d < std::min(axes, kTranslationAxes); ++d) axes_.push_back(d);
+        for (size_t k = 0; int(axes_.size()) < axes && k < spread.size(); ++k) axes_.push_back(spread[k].second);
+    }
+    int64_t index_along(const double* x, size_t a) const { return int64_t(std::floor(x[axes_[a]] / side_)); }
+    // Each axis's cell index, counted from one below the lowest, in a field of its own.
+    uint64_t key_of(const double* x) const {
+        uint64_t key = 0;
+        for (size_t a = 0; a < axes_.size(); ++a) key = key << kBitsPerAxis | uint64_t(index_along(x, a) - low_[a] + 1);
+        return key;
+    }
+
+    const KdTree::Points& points_;
+    double side_;
+    std::vector<int> axes_;          // coordinates the cells divide
+    std::vector<int64_t> low_;       // lowest cell index along each axis; empty: not usable()
+    std::unordered_map<uint64_t, int> index_;  // key -> cell
+    std::vector<uint64_t> keys_;     // per cell
+    std::vector<int> starts_;        // per cell, its first entry of members_; one past the end last
+    std::vector<int> members_;       // point indices, cell by cell
+};
+
+// The density of the points whose `stale` flag is set, counted again, cell by cell
+// (CellGrid): a point with few points in the cells around it (the sparse background, most
+// of Γ) is counted by scanning them; one in a crowded neighbourhood by the tree, whose
+// search reaches the cap from the nearest points.  Both count the same.  Each point's
+// count is its own entry: the same at any thread count.
 void count_densities(const KdTree& tree, const MeanShiftOptions& options, const std::vector<char>& stale,
                      std::vector<int>& density) {
     const KdTree::Points& points = tree.points();
+    auto count_by_tree = [&] {
 #pragma omp parallel for schedule(dynamic, 256)
-    for (int i = 0; i < tree.size(); ++i)
-        if (stale[size_t(i)])
-            density[size_t(i)] = tree.count_within(points.row(i).data(), options.bandwidth, options.density_cap);
+        for (int i = 0; i < tree.size(); ++i)
+            if (stale[size_t(i)]) density[size_t(i)] = tree.count_within(points.row(i).data(), options.bandwidth, options.density_cap);
+    };
+    // The grid sorts every point: not worth it for a recount around a few removed votes.
+    const double stale_count = double(std::count(stale.begin(), stale.end(), char(1)));
+    if (stale_count < options.min_grid_share * double(tree.size())) return count_by_tree();
+    const CellGrid grid(points, options.bandwidth, options.grid_axes);
+    if (!grid.usable()) return count_by_tree();
+#pragma omp parallel
+    {
+        std::vector<std::pair<int, int>> ranges;
+#pragma omp for schedule(dynamic, 8)
+        for (int c = 0; c < grid.cell_count(); ++c) {
+            const auto [begin, end] = grid.cell(c);
+            bool any = false;
+            for (int m = begin; m < end && !any; ++m) any = stale[size_t(grid.member(m))];
+            if (!any) continue;
+            const bool scan = grid.neighbourhood(c, ranges) <= options.max_scanned_neighbours;
+            for (int m = begin; m < end; ++m) {
+                const int i = grid.member(m);
+                if (!stale[size_t(i)]) continue;
+                const double* x = points.row(i).data();
+                density[size_t(i)] = scan ? grid.count_within(x, ranges, options.density_cap)
+                                          : tree.count_within(x, options.bandwidth, options.density_cap);
+            }
+        }
+    }
 }
 
 }  // namespace

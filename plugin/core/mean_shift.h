@@ -23,6 +23,22 @@ struct MeanShiftOptions {
     /// neighbours: beyond it every start is dense enough to climb early, and an uncapped
     /// count costs as much as the neighbourhood is large (on a torus, every point's).
     int density_cap = 256;
+    /// Densities are counted by scanning the points in the cells of side h around each
+    /// point, cells that divide this many coordinates (the translation's three first, then
+    /// the rotation entries that vary most).  More axes, fewer points scanned but 3^axes
+    /// cells looked up: on a facade's 128,000 improper votes, 3 axes scan a median of 1,340
+    /// points, 4 axes 450; 5 axes were slower than 4 on the accuracy scenes.  The count is
+    /// the same for any value of this and the next two; only the work differs.
+    int grid_axes = 4;
+    /// ...when the cells around a point hold at most this many points; the kd-tree counts
+    /// the others (a crowded neighbourhood, whose count the tree stops at the cap after the
+    /// nearest points).  Measured on one thread, densities of the first clustering against
+    /// the tree alone: 2048 gave 0.9 s against 7.8 s on the facade, 0.7 against 2.1 on
+    /// cad_joint, 0.9 against 0.9 on the cone; 1024 and 4096 did no better overall.
+    int max_scanned_neighbours = 2048;
+    /// ...and when at least this share of the points is to be counted: the grid sorts all of
+    /// them, which a recount around a few removed votes does not repay.
+    double min_grid_share = 0.125;
     /// Stop after this many modes (0: no limit).  Ascents start from the densest points,
     /// so the modes found first are the high ones; a caller that can only use the top few
     /// need not climb every hill of the background noise.

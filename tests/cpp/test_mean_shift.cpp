@@ -184,3 +184,65 @@ TEST(MeanShift, DensitiesAfterRemovalEqualACountFromScratch) {
     EXPECT_GT(changed, 50);
     EXPECT_GT(changed_at_cap, 50);
 }
+
+namespace {
+
+// Density of every point by its definition: scan all points, cap the count.
+std::vector<int> brute_force_densities(const KdTree::Points& points, double h, int cap) {
+    std::vector<int> density(size_t(points.rows()));
+    for (Eigen::Index i = 0; i < points.rows(); ++i) {
+        int count = 0;
+        for (Eigen::Index j = 0; j < points.rows(); ++j) count += (points.row(i) - points.row(j)).squaredNorm() < h * h;
+        density[size_t(i)] = std::min(count, cap);
+    }
+    return density;
+}
+
+}  // namespace
+
+// The densities are counted by scanning cells (CellGrid in mean_shift.cpp): the count of
+// points within h, capped, must be the definition's, checked by scanning every point, and
+// the kd-tree's, for every number of grid axes, whichever way each point is counted.  The
+// points are shaped like Γ: many votes sharing one translation (a rotational family, which
+// crowds a cell), tight clusters, a background, and points on the borders of cells
+// (coordinates that are multiples of h); then some moved 1,200 cells away, more than a
+// cell key holds, where the tree counts all.
+TEST(MeanShift, DensitiesCountedInCellsEqualBruteForceAndTree) {
+    std::mt19937_64 rng(11);
+    const int dim = 13;
+    const double h = 0.05;
+    std::vector<Eigen::VectorXd> centres;
+    for (double t : {-0.3, 0.0, 0.45}) centres.push_back(Eigen::VectorXd::Constant(dim, t));
+    KdTree::Points points = planted(dim, centres, 300, 1200, 0.006, rng);
+    std::uniform_real_distribution<double> angle(0.0, 6.283185307179586);
+    for (int i = 0; i < 300; ++i) {  // a family: translation 0, rotation entries on a circle
+        points.row(i).setZero();
+        const double a = angle(rng);
+        points(i, 4) = 0.18 * std::cos(a);
+        points(i, 5) = 0.18 * std::sin(a);
+    }
+    for (int i = 300; i < 340; ++i)  // on the cells' borders
+        for (int d = 0; d < dim; ++d) points(i, d) = h * double(int(i % 7) - 3);
+    MeanShiftOptions options;
+    options.bandwidth = h;
+    options.density_cap = 40;  // below the clusters' counts and the family's
+    for (double far : {0.0, 60.0}) {
+        for (int i = 300; i < 320; ++i) points(i, 0) += far;
+        const std::vector<int> brute = brute_force_densities(points, h, options.density_cap);
+        const KdTree tree(points);
+        std::vector<int> by_tree(size_t(points.rows()));
+        for (Eigen::Index i = 0; i < points.rows(); ++i)
+            by_tree[size_t(i)] = tree.count_within(points.row(i).data(), h, options.density_cap);
+        EXPECT_EQ(by_tree, brute);
+        for (int axes : {1, 3, 4, 6})
+            for (int limit : {0, 100, 1 << 30}) {  // all by the tree, both ways, all by scanning
+                options.grid_axes = axes;
+                options.max_scanned_neighbours = limit;
+                EXPECT_EQ(densities(tree, options), brute) << axes << " axes, " << limit << " scanned at most, " << far;
+            }
+        // The test has teeth: counts at the cap, below it, and of points alone.
+        EXPECT_GT(std::count(brute.begin(), brute.end(), options.density_cap), 300);
+        EXPECT_GT(std::count(brute.begin(), brute.end(), 1), 300);
+        EXPECT_GT(std::count_if(brute.begin(), brute.end(), [&](int c) { return c > 1 && c < options.density_cap; }), 20);
+    }
+}
