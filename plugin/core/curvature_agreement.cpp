@@ -38,7 +38,8 @@ bool agree(const SurfaceSignature& a, const SurfaceSignature& b, const Transform
 }  // namespace
 
 CurvatureAgreement curvature_agreement(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
-                                       const CurvatureEstimator& curvature, Roughness& roughness,
+                                       const CurvatureEstimator& curvature, CurvatureEstimator::Workspace& workspace,
+                                       Roughness& roughness,
                                        const std::vector<SurfaceSignature>& samples,
                                        const std::vector<int>& source_vertices, const Transformation& T,
                                        double radius, double signature_tolerance, double tolerance,
@@ -66,9 +67,9 @@ CurvatureAgreement curvature_agreement(const MeshNeighbourhoods& mesh, const Sur
         if (!image.found || !beside.found) continue;
         ClosestPoint beside_image = surface.closest(T.apply(beside.point), tolerance);
         if (!beside_image.found) continue;
-        const SurfaceSignature b = curvature.at({image.point, image.face}, radius);
-        const SurfaceSignature a2 = curvature.at({beside.point, beside.face}, radius);
-        const SurfaceSignature b2 = curvature.at({beside_image.point, beside_image.face}, radius);
+        const SurfaceSignature b = curvature.at({image.point, image.face}, radius, workspace);
+        const SurfaceSignature a2 = curvature.at({beside.point, beside.face}, radius, workspace);
+        const SurfaceSignature b2 = curvature.at({beside_image.point, beside_image.face}, radius, workspace);
         ++result.tested;
         rough_source.push_back(roughness.at(mesh.faces[size_t(a.face)][0]));
         rough_image.push_back(roughness.at(mesh.faces[size_t(image.face)][0]));

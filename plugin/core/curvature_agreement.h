@@ -67,8 +67,10 @@ struct CurvatureAgreement {
 /// (`source_vertices`, increasing): principal curvatures within `signature_tolerance`
 /// (in units of 1/radius, as in pairing; scaled by T's scale) and first principal
 /// directions mapped onto each other by T.
+/// `workspace` and `roughness` are the calling thread's own (each keeps work of its own).
 CurvatureAgreement curvature_agreement(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
-                                       const CurvatureEstimator& curvature, Roughness& roughness,
+                                       const CurvatureEstimator& curvature, CurvatureEstimator::Workspace& workspace,
+                                       Roughness& roughness,
                                        const std::vector<SurfaceSignature>& samples,
                                        const std::vector<int>& source_vertices, const Transformation& T,
                                        double radius, double signature_tolerance, double tolerance,

@@ -13,10 +13,14 @@
 #include <vcg/complex/append.h>
 #include <vcg/complex/algorithms/update/topology.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <random>
@@ -367,12 +371,23 @@ double overlap(const std::vector<int>& a, const std::vector<int>& b) {  // |a �
 // slippable is a member of a continuous family: the family is recorded once, and the
 // candidate is reported beside it only if it is not one of its members.
 class Verifier {
+    // The work space of one thread: a speculation (verification and assessment) may run on
+    // each at once, each with its own.
+    struct Worker {
+        std::unique_ptr<CurvatureEstimator::Workspace> workspace;
+        std::unique_ptr<Roughness> roughness;
+    };
+
 public:
     Verifier(const Model& model, const Votes& votes, const TransformationSpace& space, const DetectionOptions& options)
         : model_(model), votes_(votes), space_(space), options_(options),
           mesh_(mesh_neighbourhoods(model.analysed())),
           surface_(model.analysed(), options.verification.grid_cells_per_face), curvature_(model.analysed()),
-          roughness_(mesh_, options.denoising) {
+          workers_(threads()) {
+        for (Worker& w : workers_) {
+            w.workspace = curvature_.workspace();
+            w.roughness = std::make_unique<Roughness>(mesh_, options.denoising);
+        }
         const double radius = model.radius;
         vo_ = options.verification;
         vo_.tolerance = options.verification_tolerance * model.diagonal;
@@ -399,18 +414,69 @@ public:
     }
     size_t verified() const { return verified_; }
 
-    /// Verifies the candidate unless it is explained already; returns whether a new
-    /// continuous family was found.
-    bool consider(const Candidate& candidate) {
+    /// What classify() needs to know of a verified symmetry that depends on the symmetry
+    /// alone, worked out beside its verification (see assess).
+    struct Assessment {
+        bool agrees = false;            // curvature agrees under T (curvature_agreement.h)
+        ContinuousFamily family;        // the family the patch pair slips along; kind Discrete if none
+        bool member = false;            // T is a member of that family
+        bool slippable_source = false;  // the source patch alone slips along itself
+    };
+
+    /// A candidate's verification run ahead of its turn, possibly on another core, against
+    /// the discrete symmetries found by then: its result, and every estimate of T that
+    /// verification asked whether it was a known relation, in order.  settle() recovers from
+    /// it what the verification in turn returns.
+    struct Speculation {
+        std::optional<VerifiedSymmetry> result;
+        std::vector<Transformation> asked;
+        Assessment assessment;  // of the result
+    };
+
+    /// Threads that may speculate at once, each with its own Worker.
+    static size_t threads() { return size_t(std::max(1, omp_get_max_threads())); }
+
+    /// Whether consider() would verify the candidate now: it is neither explained nor tried.
+    bool would_verify(const Candidate& candidate) { return !explaining(candidate) && !tried(candidate.transform); }
+
+    /// Verification of the candidate against the findings as they stand, and the assessment
+    /// of its result; reads the findings only and writes only to the calling thread's
+    /// Worker, so candidates are speculated on several threads at once (below threads()).
+    Speculation speculate(const Candidate& candidate) {
+        std::vector<Seed> seeds;
+        for (int v : candidate.votes)
+            seeds.push_back({endpoints_[size_t(v)].first, space_.distance(votes_.points[size_t(v)], candidate.transform)});
+        Speculation out;
+        // A candidate that converges onto a discrete symmetry found before is that symmetry's.
+        const KnownRelation known = [this, &out](const Transformation& t) {
+            out.asked.push_back(t);
+            return std::any_of(findings_.discrete.begin(), findings_.discrete.end(),
+                               [&](const Found& f) { return same_relation(t, f.symmetry.transform); });
+        };
+        out.result = verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known);
+        if (out.result) out.assessment = assess(*out.result, workers_[size_t(omp_get_thread_num())]);
+        return out;
+    }
+
+    /// Verifies the candidate unless it is explained already, from its speculation if it
+    /// has one; returns whether a new continuous family was found.
+    bool consider(const Candidate& candidate, std::optional<Speculation> ahead = std::nullopt) {
         if (explained(candidate)) return false;
-        if (std::any_of(tried_.begin(), tried_.end(),
-                        [&](const Transformation& t) { return same_relation(candidate.transform, t); }))
-            return false;
+        if (tried(candidate.transform)) return false;
         tried_.push_back(candidate.transform);
         ++verified_;
         const size_t families = findings_.families.size();
-        if (auto verified = verify(candidate)) classify(std::move(*verified), candidate.height);
+        if (!ahead) ahead = speculate(candidate);
+        const Assessment assessment = std::move(ahead->assessment);
+        if (auto verified = settle(std::move(*ahead), candidate))
+            classify(std::move(*verified), assessment, candidate.height);
         return findings_.families.size() > families;
+    }
+
+    /// Whether two transformations are one relation (see same_relation below).
+    bool same_relation(const Transformation& a, const Transformation& b) const {
+        return space_.distance(a, b) < options_.cluster_bandwidth ||
+               space_.distance(a, b.inverse()) < options_.cluster_bandwidth;
     }
 
     /// Whether most of the candidate's votes join points that lie on the patches of what
@@ -559,10 +625,23 @@ public:
 
 private:
     // The same relation is found as T and as T⁻¹ (pairs are ordered), and nearby modes
-    // may refine to the same T: one verification and one report per relation.
-    bool same_relation(const Transformation& a, const Transformation& b) const {
-        return space_.distance(a, b) < options_.cluster_bandwidth ||
-               space_.distance(a, b.inverse()) < options_.cluster_bandwidth;
+    // may refine to the same T (same_relation): one verification and one report per relation.
+    bool tried(const Transformation& T) const {
+        return std::any_of(tried_.begin(), tried_.end(), [&](const Transformation& t) { return same_relation(T, t); });
+    }
+
+    // What verifying the candidate in turn returns, from its speculation.  The findings have
+    // only grown since it ran, so both runs computed alike up to the first estimate of T that
+    // is a known relation now: there the verification in turn stops, and that relation
+    // gets the candidate's votes, as classify() would give them after a full verification.
+    std::optional<VerifiedSymmetry> settle(Speculation s, const Candidate& candidate) {
+        for (const Transformation& t : s.asked)
+            for (Found& f : findings_.discrete)
+                if (same_relation(t, f.symmetry.transform)) {
+                    f.support += candidate.height;
+                    return std::nullopt;
+                }
+        return std::move(s.result);
     }
 
     // A candidate on a surface of revolution that slides it along the axis (a glide or a
@@ -576,13 +655,19 @@ private:
     // Whether what the candidate's votes say is already known (see the class comment);
     // a relation already reported is credited with the votes of this cluster too.
     bool explained(const Candidate& candidate) {
+        int* support = explaining(candidate);
+        if (!support) return false;
+        *support += candidate.height;
+        ++skipped_members_;
+        return true;
+    }
+
+    // The support of the family or relation that explains the candidate, or nullptr.
+    int* explaining(const Candidate& candidate) {
         for (size_t k = 0; k < findings_.families.size(); ++k)
             if (is_member_up_to_slides(findings_.families[k], candidate.transform) &&
-                share_of_votes_between(candidate, endpoints_, family_flags_[k], family_flags_[k]) >= 0.5) {
-                findings_.family_support[k] += candidate.height;
-                ++skipped_members_;
-                return true;
-            }
+                share_of_votes_between(candidate, endpoints_, family_flags_[k], family_flags_[k]) >= 0.5)
+                return &findings_.family_support[k];
         for (auto& f : findings_.discrete) {
             const bool forward = share_of_votes_between(candidate, endpoints_, f.source_flags, f.target_flags) >= 0.5;
             const bool backward = share_of_votes_between(candidate, endpoints_, f.target_flags, f.source_flags) >= 0.5;
@@ -590,13 +675,10 @@ private:
             // A relation between continuous patches (a cylinder onto another) holds for a
             // whole continuum of motions: any candidate joining its patches is the same.
             if (f.slippable_source || (forward && moves_alike(candidate.transform, f.symmetry)) ||
-                (backward && moves_alike(candidate.transform.inverse(), f.symmetry))) {
-                f.support += candidate.height;
-                ++skipped_members_;
-                return true;
-            }
+                (backward && moves_alike(candidate.transform.inverse(), f.symmetry)))
+                return &f.support;
         }
-        return false;
+        return nullptr;
     }
 
     // Whether T moves the symmetry's source patch where the symmetry does, within what a
@@ -610,37 +692,39 @@ private:
         return true;
     }
 
-    std::optional<VerifiedSymmetry> verify(const Candidate& candidate) {
-        std::vector<Seed> seeds;
-        for (int v : candidate.votes)
-            seeds.push_back({endpoints_[size_t(v)].first, space_.distance(votes_.points[size_t(v)], candidate.transform)});
-        // A candidate that converges onto a discrete symmetry found before is that
-        // symmetry's: it gets the votes, as classify() would give them after a full verification.
-        const KnownRelation known = [this, &candidate](const Transformation& t) {
-            for (Found& f : findings_.discrete)
-                if (same_relation(t, f.symmetry.transform)) {
-                    f.support += candidate.height;
-                    return true;
-                }
-            return false;
-        };
-        return verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known);
-    }
-
-    void classify(VerifiedSymmetry s, int support) {
+    // The part of classifying a verified symmetry that depends on it alone (see classify).
+    Assessment assess(const VerifiedSymmetry& s, Worker& worker) const {
+        Assessment a;
         const CurvatureAgreement agreement =
-            curvature_agreement(mesh_, surface_, curvature_, roughness_, votes_.P, s.source_vertices, s.transform, model_.radius,
-                                options_.signature_tolerance, vo_.tolerance, options_.agreement);
-        if (!agreement.passes(options_.agreement, s.source_area / model_.total_area)) return;
+            curvature_agreement(mesh_, surface_, curvature_, *worker.workspace, *worker.roughness, votes_.P,
+                                s.source_vertices, s.transform, model_.radius, options_.signature_tolerance,
+                                vo_.tolerance, options_.agreement);
+        a.agrees = agreement.passes(options_.agreement, s.source_area / model_.total_area);
+        if (!a.agrees) return a;
         std::vector<int> both;
         std::set_union(s.source_vertices.begin(), s.source_vertices.end(), s.target_vertices.begin(),
                        s.target_vertices.end(), std::back_inserter(both));
-        ContinuousFamily family = slippable_family(mesh_, both, vo_.tolerance, options_.continuous);
-        if (family.kind != ContinuousKind::Discrete) {
-            family.vertices = grow_family_patch(mesh_, family, both, vo_.tolerance, options_.continuous);
-            const bool member = is_member(family, s.transform, vo_.tolerance, options_.continuous.axis_agreement_degrees);
-            record_family(std::move(family), support);
-            if (member) return;
+        a.family = slippable_family(mesh_, both, vo_.tolerance, options_.continuous);
+        if (a.family.kind != ContinuousKind::Discrete) {
+            a.family.vertices = grow_family_patch(mesh_, a.family, both, vo_.tolerance, options_.continuous);
+            a.member = is_member(a.family, s.transform, vo_.tolerance, options_.continuous.axis_agreement_degrees);
+            if (a.member) return a;
+        }
+        if (s.small_motion) return a;
+        a.slippable_source =
+            slippable_family(mesh_, s.source_vertices, vo_.tolerance, options_.continuous).kind != ContinuousKind::Discrete;
+        return a;
+    }
+
+    // A verified symmetry whose curvature disagrees under T is two surfaces that touch, not
+    // a symmetry.  One whose patch pair slips along itself records its continuous family and
+    // is reported only if T is not the family's member; a small motion is not reported; a
+    // relation reported before gets the votes.
+    void classify(VerifiedSymmetry s, const Assessment& a, int support) {
+        if (!a.agrees) return;
+        if (a.family.kind != ContinuousKind::Discrete) {
+            record_family(a.family, support);
+            if (a.member) return;
         }
         if (s.small_motion) return;  // a slide along the surface, not a discrete symmetry
         for (auto& f : findings_.discrete)
@@ -648,9 +732,7 @@ private:
         Found found{std::move(s), support, false, {}, {}};
         found.source_flags = flags(mesh_.vertex_count(), found.symmetry.source_vertices);
         found.target_flags = flags(mesh_.vertex_count(), found.symmetry.target_vertices);
-        found.slippable_source =
-            slippable_family(mesh_, found.symmetry.source_vertices, vo_.tolerance, options_.continuous).kind !=
-            ContinuousKind::Discrete;
+        found.slippable_source = a.slippable_source;
         if (found.slippable_source && redundant_with_reported(found.symmetry)) return;
         findings_.discrete.push_back(std::move(found));
     }
@@ -732,7 +814,7 @@ private:
     const MeshNeighbourhoods mesh_;
     const SurfaceQuery surface_;
     const CurvatureEstimator curvature_;
-    Roughness roughness_;
+    std::vector<Worker> workers_;
     VerificationOptions vo_;
     double mode_slack_distance_ = 0, mode_slack_degrees_ = 0;
     std::vector<std::pair<int, int>> pair_endpoints_, endpoints_;  // seed vertices of each pair, of each vote
@@ -769,6 +851,39 @@ void keep_points(const Votes& votes, const TransformationSpace& space, Transform
     for (const Transformation& t : votes.points) kept.improper.push_back(t.reflection);
 }
 
+// Candidate `first` and the next ones that would be verified now, candidates_per_thread
+// per thread and at most `budget`, verified at once, each on the next free thread.  Each
+// is settled in its turn against what was found meanwhile (Verifier::Speculation), so the
+// findings are those of verifying one candidate at a time, at any thread count; a
+// speculation that its turn finds explained by then is work lost, not a different result.
+void speculate_ahead(Verifier& verifier, const std::vector<Candidate>& candidates, size_t first,
+                     bool outside_explained_only, size_t budget, int candidates_per_thread,
+                     std::map<size_t, Verifier::Speculation>& ahead) {
+    const size_t width = std::min(Verifier::threads() * size_t(candidates_per_thread), std::max<size_t>(1, budget));
+    std::vector<size_t> batch{first};
+    for (size_t j = first + 1; j < candidates.size() && batch.size() < width; ++j) {
+        if (ahead.count(j) || !verifier.would_verify(candidates[j])) continue;
+        if (outside_explained_only && verifier.inside_explained_patches(candidates[j])) continue;
+        // Tried once the batch's own relations are: it would be skipped in its turn.
+        if (std::any_of(batch.begin(), batch.end(), [&](size_t b) {
+                return verifier.same_relation(candidates[j].transform, candidates[b].transform);
+            }))
+            continue;
+        batch.push_back(j);
+    }
+    std::vector<Verifier::Speculation> results(batch.size());
+    std::vector<std::exception_ptr> failures(batch.size());  // an exception must not leave a thread
+#pragma omp parallel for schedule(dynamic, 1) num_threads(int(std::min(batch.size(), Verifier::threads())))
+    for (long k = 0; k < long(batch.size()); ++k) try {
+            results[size_t(k)] = verifier.speculate(candidates[batch[size_t(k)]]);
+        } catch (...) {
+            failures[size_t(k)] = std::current_exception();
+        }
+    for (const std::exception_ptr& failure : failures)
+        if (failure) std::rethrow_exception(failure);
+    for (size_t k = 0; k < batch.size(); ++k) ahead.emplace(batch[k], std::move(results[k]));
+}
+
 // §3.1 and §4 together.  At most max_verified clusters are verified; each sheet of Γ
 // offers up to four times as many modes (merges and repeats of T⁻¹ use up some).  When a
 // continuous family is found, its members' votes leave Γ and the clusters are found again:
@@ -799,21 +914,33 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     // is all near-misses, the second pass must still reach the large symmetries' neighbours
     // (a torus's equatorial mirror beside its rotational family).
     const size_t first_pass_budget = size_t(options.first_pass_share * double(max_verified));
-    for (int pass = 0; pass < 2; ++pass)
-        for (size_t i = 0; i < candidates.size() && !verifier.done(pass == 0 ? first_pass_budget : max_verified); ++i) {
+    std::map<size_t, Verifier::Speculation> ahead;  // by candidate (see speculate_ahead)
+    for (int pass = 0; pass < 2; ++pass) {
+        const size_t budget = pass == 0 ? first_pass_budget : max_verified;
+        for (size_t i = 0; i < candidates.size() && !verifier.done(budget); ++i) {
             if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
             if (pass == 0 && verifier.inside_explained_patches(candidates[i])) continue;
-            if (!verifier.consider(candidates[i])) continue;
+            if (!ahead.count(i) && verifier.would_verify(candidates[i]))
+                speculate_ahead(verifier, candidates, i, pass == 0, budget - verifier.verified(),
+                                options.candidates_per_thread, ahead);
+            std::optional<Verifier::Speculation> speculation;
+            if (auto it = ahead.find(i); it != ahead.end()) {
+                speculation = std::move(it->second);
+                ahead.erase(it);
+            }
+            if (!verifier.consider(candidates[i], std::move(speculation))) continue;
             const std::vector<int> members = verifier.newest_family_votes();
             if (members.empty()) continue;
             for (int v : members) active[size_t(v)] = 0;
             auto again = Clock::now();
             candidates = clustering.candidates(active);
+            ahead.clear();
             const double seconds = seconds_since(again);
             result.seconds_clustering += seconds;
             reclustering += seconds;
             i = size_t(-1);  // from the top: what was verified already is skipped as tried
         }
+    }
     verifier.add_cylinders_of_kept_samples();
     verifier.check_families();
     verifier.drop_partial_family_relations();
@@ -988,6 +1115,8 @@ void DetectionOptions::validate() const {
             "greater than 0 and at most 10");
     require(within_fraction(cluster_bandwidth, 1), "cluster_bandwidth", cluster_bandwidth,
             "greater than 0 and at most the bounding-box diagonal");
+    require(candidates_per_thread >= 1 && candidates_per_thread <= 64, "candidates_per_thread", candidates_per_thread,
+            "between 1 and 64");
     require(min_cluster_support >= 2, "min_cluster_support", min_cluster_support, "at least 2");
     require(within_fraction(verification_tolerance, 0.25), "verification_tolerance",
             verification_tolerance, "greater than 0 and at most a quarter of the bounding-box diagonal");

@@ -224,12 +224,6 @@ struct CurvatureEstimator::Data {
 
 // Work space reused across samples: the faces and edges met by the current ball, and
 // per-face and per-edge stamps that list each once without clearing.
-struct CurvatureEstimator::Workspace {
-    std::vector<int> stamp, edge_stamp;
-    std::vector<int> ball_faces, ball_edges;
-    int next_stamp = 0;
-};
-
 std::unique_ptr<CurvatureEstimator::Workspace> CurvatureEstimator::workspace() const {
     auto w = std::make_unique<Workspace>();
     w->stamp.assign(data_->faces.size(), -1);

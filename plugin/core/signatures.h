@@ -47,7 +47,12 @@ std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::ve
 /// estimator each bring a Workspace of their own.
 class CurvatureEstimator {
 public:
-    struct Workspace;
+    /// Which faces and edges the ball met (stamps, so that nothing is cleared between estimates).
+    struct Workspace {
+        std::vector<int> stamp, edge_stamp;
+        std::vector<int> ball_faces, ball_edges;
+        int next_stamp = 0;
+    };
     explicit CurvatureEstimator(const Mesh& mesh);  ///< the mesh must outlive the estimator
     ~CurvatureEstimator();
     SurfaceSignature at(const SurfaceSample& sample, double radius) const;

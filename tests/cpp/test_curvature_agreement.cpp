@@ -26,6 +26,7 @@ TEST(CurvatureAgreement, TellsACopyFromATwistedTouch) {
     const MeshNeighbourhoods n = mesh_neighbourhoods(mesh);
     const SurfaceQuery surface(mesh);
     const CurvatureEstimator curvature(mesh);
+    const std::unique_ptr<CurvatureEstimator::Workspace> workspace = curvature.workspace();
     Roughness roughness(n, DenoisingOptions());
     const double diagonal = mesh.bbox.Diag(), radius = 0.01 * diagonal, tolerance = 0.01 * diagonal;
     std::mt19937_64 rng(5);
@@ -38,7 +39,7 @@ TEST(CurvatureAgreement, TellsACopyFromATwistedTouch) {
         if ((n.positions[size_t(v)] - p0).norm() < 0.6) patch.push_back(v);
     const CurvatureAgreementOptions options;
     CurvatureAgreement copy_agreement =
-        curvature_agreement(n, surface, curvature, roughness, samples, patch, planted, radius, 0.05, tolerance, options);
+        curvature_agreement(n, surface, curvature, *workspace, roughness, samples, patch, planted, radius, 0.05, tolerance, options);
     EXPECT_GT(copy_agreement.tested, 20);
     EXPECT_TRUE(copy_agreement.passes(options, 0.02));
 
@@ -49,7 +50,7 @@ TEST(CurvatureAgreement, TellsACopyFromATwistedTouch) {
     Transformation twist;
     twist.rotation = Eigen::AngleAxisd(M_PI / 2, normal.normalized()).toRotationMatrix();
     twist.translation = p0 - twist.rotation * p0;
-    CurvatureAgreement touch = curvature_agreement(n, surface, curvature, roughness, samples, patch, planted * twist,
+    CurvatureAgreement touch = curvature_agreement(n, surface, curvature, *workspace, roughness, samples, patch, planted * twist,
                                                    radius, 0.05, tolerance, options);
     EXPECT_GT(touch.tested, 3);
     EXPECT_FALSE(touch.passes(options, 0.02));

@@ -123,3 +123,33 @@ TEST(Detection, ATorusIsOneRotationalFamilyAndItsMirror) {
     EXPECT_EQ(families, 1);
     EXPECT_EQ(mirrors, 1);
 }
+
+// Candidates are verified ahead of their turn, several at once, and settled in turn against
+// what was found meanwhile (detection.cpp, speculate_ahead): how many go ahead at once may
+// change the time, never the result.  A row of four copies, each another tessellation, has
+// many candidates that converge onto relations found while they were verified ahead, even
+// on one thread.
+TEST(Detection, CandidatesVerifiedAheadChangeNothing) {
+    Shape row = swollen_torus(160, 48);
+    const int tessellations[3][2] = {{149, 43}, {171, 52}, {155, 45}};
+    for (int k = 0; k < 3; ++k) {
+        const Shape copy = swollen_torus(tessellations[k][0], tessellations[k][1]);
+        row = merged(row, transformed(copy, Eigen::Matrix3d::Identity(), Eigen::Vector3d(7.0 * (k + 1), 0, 0)));
+    }
+    DetectionOptions one_at_a_time;
+    one_at_a_time.candidates_per_thread = 1;
+    DetectionOptions many_ahead = one_at_a_time;
+    many_ahead.candidates_per_thread = 16;
+    const DetectionResult a = detect_partial_symmetries(row.V, row.F, one_at_a_time);
+    const DetectionResult b = detect_partial_symmetries(row.V, row.F, many_ahead);
+    ASSERT_GE(a.symmetries.size(), 3u);  // the three translations of the row at least
+    EXPECT_EQ(a.verified_candidates, b.verified_candidates);
+    ASSERT_EQ(a.symmetries.size(), b.symmetries.size());
+    for (size_t k = 0; k < a.symmetries.size(); ++k) {
+        EXPECT_EQ(a.symmetries[k].transform.matrix(), b.symmetries[k].transform.matrix());
+        EXPECT_EQ(a.symmetries[k].source_vertices, b.symmetries[k].source_vertices);
+        EXPECT_EQ(a.symmetries[k].target_vertices, b.symmetries[k].target_vertices);
+    }
+    EXPECT_EQ(a.vertex_deviation, b.vertex_deviation);
+    EXPECT_EQ(a.vertex_symmetry_id, b.vertex_symmetry_id);
+}
