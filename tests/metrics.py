@@ -287,6 +287,21 @@ def _relations_of(scene) -> List[Relation]:
     return out
 
 
+def _any_within(T: np.ndarray, others: Sequence[np.ndarray], P: np.ndarray, tol: float) -> bool:
+    """Whether transform_distance(T, U, P) < tol for some U of `others`, all of them at once
+    (the closure below compares each new composition with thousands of earlier ones)."""
+    if not others:
+        return False
+    U = np.asarray(others)
+    # The displacement at P's first point is a lower bound of the largest: it rules out most.
+    p = P[0]
+    U = U[np.linalg.norm(U[:, :3, :3] @ p + U[:, :3, 3] - (T[:3, :3] @ p + T[:3, 3]), axis=1) < tol]
+    if not len(U):
+        return False
+    images = P @ U[:, :3, :3].transpose(0, 2, 1) + U[:, None, :3, 3]
+    return bool((np.linalg.norm(images - _scenes.apply(T, P)[None], axis=2).max(axis=1) < tol).any())
+
+
 def truth_relations(scene, max_length: int = 3) -> List[Relation]:
     """The relations of the scene closed under composition (paths of up to max_length
     relations or their inverses through the parts), distinct on their source, identities
@@ -316,8 +331,7 @@ def truth_relations(scene, max_length: int = 3) -> List[Relation]:
                 key = (a.source_part, b.target_part)
                 if transform_distance(T, np.eye(4), P) < TRIVIAL_TOL * diag:
                     continue
-                if any(transform_distance(T, U, P) < 1e-3 * diag
-                       for U in seen.get(key, [])):
+                if _any_within(T, seen.get(key, []), P, 1e-3 * diag):
                     continue
                 seen.setdefault(key, []).append(T)
                 new.append(Relation(f"{b.name}*{a.name}", T, a.source_part, b.target_part,

@@ -221,7 +221,7 @@ def test_oracle_finds_the_mirror_of_a_mirror_symmetric_shape():
 
 def test_oracle_finds_no_mirror_on_an_asymmetric_blob():
     V, F = scenes.make_scene("asymmetric", 0).part_mesh("blob")
-    assert oracle.self_symmetries(V, F) == []  # its mirror planes and rotation candidates
+    assert oracle.self_symmetries(V, F, recorded=False) == []  # its mirror planes and rotation candidates
 
 
 def test_oracle_records_the_cows_mirror():
@@ -230,6 +230,22 @@ def test_oracle_records_the_cows_mirror():
     cow = scene("noisy_both_0.1").self_symmetries()
     assert len(cow) == 1 and cow[0].reflection and cow[0].source_part == "base"
     assert len(cow[0].source_vertices) > 0.9 * len(scene("noisy_both_0.1").part_vertices("base"))
+
+
+def test_a_recorded_answer_is_the_oracles_fresh_search():
+    """tests/oracle_answers/ stands for the search it saves: the cow's recorded
+    self-symmetries, as the noisy scenes ask for them, equal the search run again."""
+    s = scene("noisy_both_0.1")
+    V, F = s.clean_parts.get("base") or s.part_mesh("base")
+    S = oracle.Surface.from_mesh(V, F, spacing=0.002)
+    tol = oracle.EXACT_TOL * s.diagonal / S.diagonal
+    recorded = oracle.self_symmetries(V, F, tol=tol, surface=S)
+    path = os.path.join(oracle.ANSWERS_DIR, oracle._answer_key(V, F, S, 0.7, tol, 8) + ".json")
+    assert os.path.exists(path)
+    fresh = oracle.self_symmetries(V, F, tol=tol, surface=S, recorded=False)
+    assert recorded and [name for name, _, _ in recorded] == [name for name, _, _ in fresh]
+    for (_, A, a), (_, B, b) in zip(recorded, fresh):
+        assert np.array_equal(A, B) and a == b
 
 
 def test_family_holds_rejects_a_curved_face_as_a_plane():
