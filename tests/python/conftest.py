@@ -29,6 +29,12 @@ FILTER = meshlab_symmetry.FILTER_NAME
 NOT_BUILT_MESSAGE = "detection pipeline is not built yet"
 
 
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "long_under_sanitizers: a whole detection that adds no code path to `make test-sanitize` "
+        "(its core is in the sanitized C++ tests, its host code in lighter cases); that run leaves it out")
+
+
 def make_meshset(vertices, faces=None, label="input"):
     vertices = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
     if faces is None or len(faces) == 0:

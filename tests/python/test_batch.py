@@ -28,7 +28,8 @@ _ANGLE = np.radians(50.0)
 _K = np.array([[0, -_AXIS[2], _AXIS[1]], [_AXIS[2], 0, -_AXIS[0]], [-_AXIS[1], _AXIS[0], 0]])
 ROTATION = np.eye(3) + np.sin(_ANGLE) * _K + (1 - np.cos(_ANGLE)) * _K @ _K
 SHIFT = np.array([3.0, -1.0, 0.5])
-PARAMETERS = dict(random_seed=0)
+#: lighter than the defaults (the batch machinery is what is tested here): 15 s a mesh less
+PARAMETERS = dict(random_seed=0, sample_count=2000, pair_sample_count=250)
 
 
 def _save(path, V, F):
@@ -126,10 +127,11 @@ def test_batch_on_a_dask_cluster_gives_the_local_results(dataset, tmp_path):
 def test_batch_command_line(dataset, tmp_path, capsys):
     root, _ = dataset
     out = tmp_path / "cli"
-    assert main(["batch", str(root / "*.ply"), "-o", str(out), "-j", "1", "--no-progress"]) == 0
+    light = ["--sample-count", "2000", "--pair-sample-count", "250"]  # as PARAMETERS
+    assert main(["batch", str(root / "*.ply"), "-o", str(out), "-j", "1", "--no-progress", *light]) == 0
     assert (out / "sphere.ply.json").exists() and len(_summary(out)) == 1
     assert "1 analysed, 0 already done, 0 failed" in capsys.readouterr().out
-    assert main(["batch", str(root), "-o", str(out), "--no-progress"]) == 1  # the broken file
+    assert main(["batch", str(root), "-o", str(out), "--no-progress", *light]) == 1  # the broken file
     assert main(["batch", str(tmp_path / "nothing-here"), "-o", str(out)]) == 1
     assert "names no mesh file" in capsys.readouterr().err
 

@@ -7,7 +7,7 @@ import pytest
 
 from conftest import FILTER, make_meshset, mirror_symmetric_mesh
 
-RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=500)
+RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=250)
 MIRROR_X = np.diag([-1.0, 1, 1])
 
 
@@ -104,6 +104,7 @@ def test_a_copy_turned_inward_still_mirrors_the_other(requires_pipeline, bumpy):
     np.testing.assert_array_equal(ms.mesh(0).face_matrix(), Q)
 
 
+@pytest.mark.long_under_sanitizers
 @pytest.mark.parametrize("name", ("box", "torus", "noisy_both_0.2", "fine_row"))
 def test_the_planted_scenes_need_no_repair(requires_pipeline, name):
     """The repair leaves a clean mesh exactly as it is: the scenes (and the real models, see

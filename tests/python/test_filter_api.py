@@ -19,7 +19,7 @@ PARAMETERS = [
     "basis_tolerance", "create_patch_layers", "random_seed",
 ]
 # A lighter run than the defaults keeps the output tests quick; still a typical setting.
-RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=500)
+RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=250)
 PER_SYMMETRY = ["scales", "is_reflection", "rms_errors", "source_areas", "supports", "is_generator"]
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
