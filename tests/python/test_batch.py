@@ -127,7 +127,7 @@ def test_batch_on_a_dask_cluster_gives_the_local_results(dataset, tmp_path):
 def test_batch_command_line(dataset, tmp_path, capsys):
     root, _ = dataset
     out = tmp_path / "cli"
-    light = ["--sample-count", "2000", "--pair-sample-count", "250"]  # as PARAMETERS
+    light = [arg for name, value in PARAMETERS.items() for arg in (f"--{name.replace('_', '-')}", str(value))]
     assert main(["batch", str(root / "*.ply"), "-o", str(out), "-j", "1", "--no-progress", *light]) == 0
     assert (out / "sphere.ply.json").exists() and len(_summary(out)) == 1
     assert "1 analysed, 0 already done, 0 failed" in capsys.readouterr().out

@@ -5,9 +5,8 @@ and the outputs say what was repaired.  (Input the filter refuses is in test_fil
 import numpy as np
 import pytest
 
-from conftest import FILTER, make_meshset, mirror_symmetric_mesh
+from conftest import FILTER, LIGHT_RUN as RUN, make_meshset, mirror_symmetric_mesh
 
-RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=250)
 MIRROR_X = np.diag([-1.0, 1, 1])
 
 

@@ -9,7 +9,7 @@ import pymeshlab
 import pytest
 
 import meshlab_symmetry
-from conftest import (FILTER, NOT_BUILT_MESSAGE, assert_mesh_unchanged, make_meshset, mesh_snapshot,
+from conftest import (FILTER, LIGHT_RUN, NOT_BUILT_MESSAGE, assert_mesh_unchanged, make_meshset, mesh_snapshot,
                       mirror_symmetric_mesh, sphere)
 
 PARAMETERS = [
@@ -19,7 +19,7 @@ PARAMETERS = [
     "basis_tolerance", "create_patch_layers", "random_seed",
 ]
 # A lighter run than the defaults keeps the output tests quick; still a typical setting.
-RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=250)
+RUN = LIGHT_RUN
 PER_SYMMETRY = ["scales", "is_reflection", "rms_errors", "source_areas", "supports", "is_generator"]
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 

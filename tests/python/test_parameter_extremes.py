@@ -9,12 +9,10 @@ import numpy as np
 import pymeshlab
 import pytest
 
-from conftest import FILTER, assert_mesh_unchanged, make_meshset, mesh_snapshot, mirror_symmetric_mesh
+from conftest import FILTER, LIGHT_RUN, assert_mesh_unchanged, make_meshset, mesh_snapshot, mirror_symmetric_mesh
 
 # Lighter than the defaults, so that the sweep stays quick; each case overrides one of them.
-# (On this mesh 250 pair samples give 7,000 pairs, clustered in 1.5 s; 500 gave 15,000 in
-# 3.4 s, and 17 s under the sanitizers.  The mirror is found either way.)
-RUN = dict(random_seed=1, sample_count=2000, pair_sample_count=250)
+RUN = LIGHT_RUN
 MIRROR_X = np.diag([-1.0, 1, 1])
 P = pymeshlab.PercentageValue
 
