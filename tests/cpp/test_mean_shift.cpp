@@ -145,19 +145,16 @@ TEST(MeanShift, BatchesOfAscentsGiveTheSequentialResult) {
 }
 
 // Counting the densities again only around removed points gives what counting every
-// point of the smaller set gives, including counts held at the cap.
+// point of the smaller set gives, including counts held at the cap, whichever way the
+// points near a removed one are found (scanning cells, the tree of removed points where
+// cells are crowded, or range queries where the points spread over more cells than a key
+// holds).
 TEST(MeanShift, DensitiesAfterRemovalEqualACountFromScratch) {
     std::mt19937_64 rng(5);
     const int dim = 13;
     std::vector<Eigen::VectorXd> centres;
     for (double t : {-0.4, 0.0, 0.3}) centres.push_back(Eigen::VectorXd::Constant(dim, t));
-    const KdTree::Points all = planted(dim, centres, 400, 1500, 0.02, rng);
-    MeanShiftOptions options;
-    options.bandwidth = 0.1;
-    options.density_cap = 100;  // below the clusters' counts (400), above what one keeps (80)
-    const KdTree before(all);
-    const std::vector<int> density = densities(before, options);
-    ASSERT_EQ(*std::max_element(density.begin(), density.end()), options.density_cap);
+    KdTree::Points all = planted(dim, centres, 400, 1500, 0.02, rng);
     // Remove most of one cluster (as a continuous family's votes leave Γ) and some background.
     std::vector<int> kept;
     std::vector<int> gone;
@@ -167,22 +164,37 @@ TEST(MeanShift, DensitiesAfterRemovalEqualACountFromScratch) {
         const bool removed = in_first_cluster || (i >= 1200 && !keep_background(rng));
         (removed ? gone : kept).push_back(i);
     }
-    KdTree::Points rest(kept.size(), dim), removed(gone.size(), dim);
-    for (size_t k = 0; k < kept.size(); ++k) rest.row(long(k)) = all.row(kept[k]);
-    for (size_t k = 0; k < gone.size(); ++k) removed.row(long(k)) = all.row(gone[k]);
-    const KdTree after(rest);
-    const std::vector<int> updated = densities_after_removal(after, density, kept, removed, options);
-    const std::vector<int> from_scratch = densities(after, options);
-    EXPECT_EQ(updated, from_scratch);
-    // ...and the removal did change counts, capped ones among them: the test has teeth.
-    int changed = 0, changed_at_cap = 0;
-    for (size_t k = 0; k < kept.size(); ++k)
-        if (updated[k] != density[size_t(kept[k])]) {
-            ++changed;
-            changed_at_cap += density[size_t(kept[k])] == options.density_cap;
-        }
-    EXPECT_GT(changed, 50);
-    EXPECT_GT(changed_at_cap, 50);
+    MeanShiftOptions options;
+    options.bandwidth = 0.1;
+    options.density_cap = 100;  // below the clusters' counts (400), above what one keeps (80)
+    for (double far : {0.0, 250.0}) {  // 250: 2,500 cells along the first axis, more than a key holds
+        for (int i = 1200; i < 1210; ++i) all(i, 0) += far;
+        const KdTree before(all);
+        const std::vector<int> density = densities(before, options);
+        ASSERT_EQ(*std::max_element(density.begin(), density.end()), options.density_cap);
+        KdTree::Points rest(kept.size(), dim), removed(gone.size(), dim);
+        for (size_t k = 0; k < kept.size(); ++k) rest.row(long(k)) = all.row(kept[k]);
+        for (size_t k = 0; k < gone.size(); ++k) removed.row(long(k)) = all.row(gone[k]);
+        const KdTree after(rest);
+        const std::vector<int> from_scratch = densities(after, options);
+        for (int axes : {1, 4})
+            for (int limit : {0, 100, 1 << 30}) {  // crowded cells by the tree: all, some, none
+                MeanShiftOptions o = options;
+                o.grid_axes = axes;
+                o.max_scanned_neighbours = limit;
+                EXPECT_EQ(densities_after_removal(after, density, kept, removed, o), from_scratch)
+                    << axes << " axes, " << limit << " scanned at most, " << far;
+            }
+        // ...and the removal did change counts, capped ones among them: the test has teeth.
+        int changed = 0, changed_at_cap = 0;
+        for (size_t k = 0; k < kept.size(); ++k)
+            if (from_scratch[k] != density[size_t(kept[k])]) {
+                ++changed;
+                changed_at_cap += density[size_t(kept[k])] == options.density_cap;
+            }
+        EXPECT_GT(changed, 50);
+        EXPECT_GT(changed_at_cap, 50);
+    }
 }
 
 namespace {
