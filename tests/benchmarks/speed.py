@@ -20,6 +20,16 @@ The meshes (built once into tests/data/speed/, git-ignored):
 * armadillo_2m and armadillo_3m (with --large): the same scan at 2,000,000 and 3,000,000
   faces (the largest inputs issue 10 asks the filter to finish, with their memory).
 
+With --curves DIR it also draws the two curves of issue 6 as PNG files in DIR, from runs of
+the same kind (each point a fresh process for the filter and one for the yardstick):
+
+* speed_vs_size.png: time against faces for one shape, the armadillo scan re-tessellated
+  (subdivided, then decimated) at 10,000 ... 2,000,000 faces (--curve-faces sets the sizes);
+* speed_vs_parts.png: time against the number of repeated parts, facades of 1 ... 120
+  identical windows (each window 1,500 faces; the wall slab 76,800 faces whatever its size, so
+  the mesh grows from 78,300 to 256,800 faces; below 50,000 vertices it is analysed whole,
+  above on its simplified copy, as the filter's defaults do).
+
 It measures and does not assert: the exit status is 0 unless a run fails.
 """
 import argparse
@@ -102,6 +112,21 @@ LARGE = {"armadillo_2m": lambda path: subdivided_scan("armadillo", 2_000_000, pa
          "armadillo_3m": lambda path: subdivided_scan("armadillo", 3_000_000, path)}
 
 
+# The curves' meshes: the scan at a number of faces, facades of columns x rows windows.
+CURVE_FACES = (10_000, 30_000, 100_000, 320_000, 1_000_000, 2_000_000)
+CURVE_FACADES = ((1, 1), (2, 2), (3, 4), (5, 6), (8, 9), (10, 12))
+
+
+def curve_builder(name: str):
+    """The builder of a curve mesh from its name: armadillo_f<faces> or facade_<c>x<r>."""
+    if name.startswith("armadillo_f"):
+        return lambda path: subdivided_scan("armadillo", int(name[len("armadillo_f"):]), path)
+    if name.startswith("facade_") and "x" in name:
+        columns, rows = (int(k) for k in name[len("facade_"):].split("x"))
+        return lambda path: facade(columns, rows, path)
+    return None
+
+
 def mesh_path(name: str) -> str:
     """The benchmark mesh's file, built first if missing.  It is built in a child process:
     on Linux a child's peak RSS counts that of the process it was forked from, so a parent
@@ -163,6 +188,9 @@ def main(argv=None):
     ap.add_argument("--large", action="store_true", help="also the 2- and 3-million-face meshes")
     ap.add_argument("--threads", type=int, default=0, help="OMP_NUM_THREADS of the runs (0: default)")
     ap.add_argument("--json", help="write the figures to this file")
+    ap.add_argument("--curves", metavar="DIR", help="also draw speed_vs_size.png and speed_vs_parts.png in DIR")
+    ap.add_argument("--curve-faces", type=int, nargs="+", default=list(CURVE_FACES), metavar="FACES",
+                    help="the scan's sizes for the size curve")
     ap.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
     ap.add_argument("--build", nargs=2, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -170,29 +198,75 @@ def main(argv=None):
         return child(*args.child)
     if args.build:
         name, path = args.build
-        return dict(MESHES, **LARGE)[name](path)
+        return (dict(MESHES, **LARGE).get(name) or curve_builder(name))(path)
     meshes = dict(MESHES, **(LARGE if args.large else {}))
     names = [n for n in meshes if not args.only or n in args.only]
 
+    print_head()
+    rows = [measure(name, args.threads) for name in names]
+    if args.curves:
+        sizes = [measure(f"armadillo_f{faces}", args.threads) for faces in args.curve_faces]
+        parts = [measure(f"facade_{c}x{r}", args.threads) for c, r in CURVE_FACADES]
+        draw_curves(args.curves, sizes, parts)
+        rows += sizes + parts
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
+def print_head() -> None:
     head = (f"{'mesh':<16} {'verts':>8} {'faces':>8} " + " ".join(f"{s[:6]:>6}" for s in STAGES)
             + f" {'other':>6} {'filter':>7} {'yard':>6} {'ratio':>6} {'sym':>4} {'peakMB':>7} {'yardMB':>7}")
     print(head)
     print("-" * len(head))
-    rows = []
-    for name in names:
-        path = mesh_path(name)
-        yard = run_child("yardstick", path, args.threads)
-        run = run_child("filter", path, args.threads)
-        other = run["seconds"] - sum(run[s] for s in STAGES)
-        ratio = run["seconds"] / yard["seconds"]
-        print(f"{name:<16} {run['vertices']:>8} {run['faces']:>8} "
-              + " ".join(f"{run[s]:>6.2f}" for s in STAGES)
-              + f" {other:>6.2f} {run['seconds']:>7.2f} {yard['seconds']:>6.2f} {ratio:>6.1f} "
-              f"{run['symmetries']:>4} {run['peak_mb']:>7.0f} {yard['peak_mb']:>7.0f}", flush=True)
-        rows.append(dict(name=name, filter=run, yardstick=yard, ratio=ratio))
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(rows, f, indent=1)
+
+
+def measure(name: str, threads: int) -> dict:
+    """The yardstick and the filter on one mesh, each in a process of its own; prints the row."""
+    path = mesh_path(name)
+    yard = run_child("yardstick", path, threads)
+    run = run_child("filter", path, threads)
+    other = run["seconds"] - sum(run[s] for s in STAGES)
+    ratio = run["seconds"] / yard["seconds"]
+    print(f"{name:<16} {run['vertices']:>8} {run['faces']:>8} "
+          + " ".join(f"{run[s]:>6.2f}" for s in STAGES)
+          + f" {other:>6.2f} {run['seconds']:>7.2f} {yard['seconds']:>6.2f} {ratio:>6.1f} "
+          f"{run['symmetries']:>4} {run['peak_mb']:>7.0f} {yard['peak_mb']:>7.0f}", flush=True)
+    return dict(name=name, filter=run, yardstick=yard, ratio=ratio)
+
+
+def draw_curves(directory: str, sizes: list, parts: list) -> None:
+    """speed_vs_size.png (log-log: seconds against faces, the filter's stages stacked beside
+    the yardstick) and speed_vs_parts.png (seconds against the number of windows)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    os.makedirs(directory, exist_ok=True)
+
+    def plot(rows, x, xlabel, title, filename, log):
+        fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+        ax.plot(x, [r["filter"]["seconds"] for r in rows], "o-", label="filter (whole)")
+        ax.plot(x, [r["filter"]["verification"] for r in rows], "s--", label="verification")
+        ax.plot(x, [r["filter"]["clustering"] for r in rows], "^--", label="clustering")
+        ax.plot(x, [r["yardstick"]["seconds"] for r in rows], "k:", marker="x",
+                label="yardstick: curvature filter")
+        if log:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("seconds")
+        ax.set_title(title, fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(directory, filename))
+        plt.close(fig)
+
+    plot(sizes, [r["filter"]["faces"] for r in sizes], "faces",
+         "armadillo scan re-tessellated, default parameters", "speed_vs_size.png", log=True)
+    plot(parts, [int(np.prod([int(k) for k in r["name"][len("facade_"):].split("x")])) for r in parts],
+         "identical windows on the facade", "facades of repeated windows, default parameters",
+         "speed_vs_parts.png", log=False)
 
 
 if __name__ == "__main__":
