@@ -1237,4 +1237,14 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     return result;
 }
 
+void require_result_of_mesh(const DetectionResult& detected, Eigen::Index rows) {
+    if (Eigen::Index(detected.vertex_symmetry_id.size()) != rows)
+        throw InputError("The detection result belongs to another mesh (its vertex count differs).");
+    for (const DetectedSymmetry& s : detected.symmetries)
+        for (const std::vector<int>* patch : {&s.source_vertices, &s.target_vertices})
+            for (int v : *patch)
+                if (v < 0 || Eigen::Index(v) >= rows)
+                    throw InputError("The detection result belongs to another mesh (a patch vertex is out of range).");
+}
+
 }  // namespace symmetry

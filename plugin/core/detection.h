@@ -163,4 +163,8 @@ using Progress = std::function<void(int percent, const char* stage)>;
 DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
                                           const DetectionOptions& options, const Progress& progress = {});
 
+/// For the uses of a result (symmetrization, reduction): throws InputError unless `detected`
+/// fits a mesh of `rows` vertices (its per-vertex outputs and patches are rows of that V).
+void require_result_of_mesh(const DetectionResult& detected, Eigen::Index rows);
+
 }  // namespace symmetry

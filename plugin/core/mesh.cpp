@@ -54,6 +54,7 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
     }
     if (kept.empty())
         throw InputError("Every face of the mesh is degenerate (zero area); there is no surface to analyse.");
+    done.face_of_input = kept;
 
     std::vector<int> new_index(V.rows(), -1);
     std::vector<char> referenced(V.rows(), 0);

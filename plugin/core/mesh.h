@@ -35,6 +35,8 @@ struct MeshRepairs {
     int welded_vertices = 0;  ///< rows of a soup's faces welded onto another at the same position
     int flipped_faces = 0;    ///< faces turned to orient each component coherently (and outward)
     bool orientable = true;   ///< false: a component could not be oriented and was left as it was
+    /// Per face of the built mesh: its row of F (degenerate faces are dropped, so rows skip).
+    std::vector<int> face_of_input;
 };
 
 /// Builds the core mesh from vertex positions (#V by 3) and triangles (#F by 3

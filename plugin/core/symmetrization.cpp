@@ -10,16 +10,6 @@
 namespace symmetry {
 namespace {
 
-void check(const Eigen::MatrixX3d& V, const DetectionResult& detected) {
-    if (Eigen::Index(detected.vertex_symmetry_id.size()) != V.rows())
-        throw InputError("The detection result belongs to another mesh (its vertex count differs).");
-    for (const DetectedSymmetry& s : detected.symmetries)
-        for (const std::vector<int>* patch : {&s.source_vertices, &s.target_vertices})
-            for (int v : *patch)
-                if (v < 0 || Eigen::Index(v) >= V.rows())
-                    throw InputError("The detection result belongs to another mesh (a patch vertex is out of range).");
-}
-
 // Per vertex: the discrete symmetry it moves under, and whether it is in that symmetry's
 // source patch, its target patch or both.
 struct Membership {
@@ -109,7 +99,7 @@ void SymmetrizationOptions::validate() const {
 SymmetrizationResult symmetrize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionResult& detected,
                                 double verification_tolerance, const SymmetrizationOptions& options) {
     options.validate();
-    check(V, detected);
+    require_result_of_mesh(detected, V.rows());
     const Membership m = membership(detected, V.rows());
     const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
     const double max_distance = options.max_distance_in_tolerances * verification_tolerance * diagonal;

@@ -8,6 +8,7 @@
 #include <core/symmetrization.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -103,7 +104,7 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION};
 	for (ActionIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -118,6 +119,7 @@ QString FilterSymmetryPlugin::filterName(ActionIDType filter) const
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionName();
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
+	case FP_REDUCTION: return symmetry_texts::reductionName();
 	default: assert(0); return QString();
 	}
 }
@@ -127,6 +129,7 @@ QString FilterSymmetryPlugin::pythonFilterName(ActionIDType filter) const
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return "compute_partial_symmetries";
 	case FP_SYMMETRIZATION: return "apply_coord_symmetrization";
+	case FP_REDUCTION: return "generate_symmetry_based_reduction";
 	default: assert(0); return QString();
 	}
 }
@@ -136,13 +139,18 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionInfo(true);
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(true);
+	case FP_REDUCTION: return symmetry_texts::reductionInfo(true);
 	default: assert(0); return QString();
 	}
 }
 
 FilterPlugin::FilterClass FilterSymmetryPlugin::getClass(const QAction* action) const
 {
-	return ID(action) == FP_SYMMETRIZATION ? FilterPlugin::Smoothing : FilterPlugin::Measure;
+	switch (ID(action)) {
+	case FP_SYMMETRIZATION: return FilterPlugin::Smoothing;
+	case FP_REDUCTION: return FilterPlugin::Remeshing;
+	default: return FilterPlugin::Measure;
+	}
 }
 
 FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction*) const
@@ -175,6 +183,7 @@ symmetry_host::Filter FilterSymmetryPlugin::filterOf(const QAction* action) cons
 	switch (ID(action)) {
 	case FP_PARTIAL_SYMMETRIES: return symmetry_host::Filter::Detection;
 	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
+	case FP_REDUCTION: return symmetry_host::Filter::Reduction;
 	default: wrongActionCalled(action);
 	}
 	return symmetry_host::Filter::Detection;
@@ -187,6 +196,7 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::applyFilter(
 	switch (ID(action)) {
 	case FP_PARTIAL_SYMMETRIES: return detectPartialSymmetries(md, parameters, cb);
 	case FP_SYMMETRIZATION: return symmetrize(md, parameters, cb);
+	case FP_REDUCTION: return reduce(md, parameters, cb);
 	default: wrongActionCalled(action);
 	}
 	return {};
@@ -220,6 +230,41 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::symmetrize(
 	out["symmetrized_vertices"] = QVariant(done.moved.moved_vertices);
 	out["rms_before"] = QVariant(done.moved.rms_before);
 	out["rms_after"] = QVariant(done.moved.rms_after);
+	return out;
+}
+
+std::map<std::string, QVariant> FilterSymmetryPlugin::reduce(
+	MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* input = md.mm();
+	if (input == nullptr)
+		throw MLException("There is no current mesh to reduce.");
+	const symmetry_host::Reduction done = symmetry_host::reduceMesh(md, *input, parameters, progressOf(cb));
+	log(symmetry_host::reductionLog(done).toStdString());
+	const std::vector<int>& kept = done.reduced.kept_faces;
+	std::vector<double> transforms, faceCounts, faces, removed;
+	for (const symmetry::ReducedInstance& instance : done.reduced.instances) {
+		const Eigen::Matrix4d m = instance.transform.matrix();
+		for (int i = 0; i < 4; ++i)
+			for (int j = 0; j < 4; ++j)
+				transforms.push_back(m(i, j));
+		faceCounts.push_back(double(instance.faces.size()));
+		for (int f : instance.faces)
+			faces.push_back(double(std::lower_bound(kept.begin(), kept.end(), f) - kept.begin()));
+		removed.push_back(instance.removed_faces);
+	}
+	std::map<std::string, QVariant> out;
+	out["symmetry_count"] = QVariant(done.symmetryCount);
+	out["reduced_faces"] = QVariant(int(kept.size()));
+	out["size_ratio"] = QVariant(done.reduced.size_ratio);
+	out["instance_count"] = QVariant(int(done.reduced.instances.size()));
+	out["instance_transforms"] = vector(transforms);
+	out["instance_face_counts"] = vector(faceCounts);
+	out["instance_faces"] = vector(faces);
+	out["instance_removed_faces"] = vector(removed);
+	out["reconstruction_error"] = QVariant(done.reduced.reconstruction_error);
+	out["reduced_layer_id"] = QVariant(done.reducedLayerId);
+	out["reconstruction_layer_id"] = QVariant(done.reconstructionLayerId);
 	return out;
 }
 

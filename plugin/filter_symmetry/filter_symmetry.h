@@ -18,16 +18,17 @@ class FilterSymmetryPlugin : public QObject, public FilterPlugin
 	Q_INTERFACES(FilterPlugin)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION };
 
 	FilterSymmetryPlugin();
 
 	/// "FilterSymmetry".
 	QString pluginName() const override;
-	/// The menu entries, "Detect Partial and Approximate Symmetries" and "Symmetrize
-	/// Approximate Symmetries".
+	/// The menu entries, "Detect Partial and Approximate Symmetries", "Symmetrize
+	/// Approximate Symmetries" and "Symmetry-Based Reduction".
 	QString filterName(ActionIDType filter) const override;
-	/// compute_partial_symmetries, apply_coord_symmetrization: public API, never rename.
+	/// compute_partial_symmetries, apply_coord_symmetrization, generate_symmetry_based_reduction:
+	/// public API, never rename.
 	QString pythonFilterName(ActionIDType filter) const override;
 	/// Paper reference and the meaning of every output.
 	QString filterInfo(ActionIDType filter) const override;
@@ -38,6 +39,7 @@ public:
 	int getPreConditions(const QAction* action) const override;
 	/// Detection: vertex quality and colour, and vertex and face numbers for the layers it
 	/// adds (so the GUI offers no preview).  Symmetrization: vertex positions and normals.
+	/// Reduction: vertex and face numbers (it adds layers).
 	int postCondition(const QAction* action) const override;
 	/// The parameters in their public order, defaults from symmetry::DetectionOptions.
 	RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
@@ -59,6 +61,11 @@ private:
 	std::map<std::string, QVariant> symmetrize(
 		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 
-	/// Which of the two filters `action` is (host_mesh.h's Filter).
+	/// Removes the faces that are copies of others (core/reduction.h), as new layers; the
+	/// input is not changed.
+	std::map<std::string, QVariant> reduce(
+		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+
+	/// Which of the filters `action` is (host_mesh.h's Filter).
 	symmetry_host::Filter filterOf(const QAction* action) const;
 };

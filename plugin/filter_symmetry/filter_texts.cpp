@@ -81,6 +81,41 @@ QString symmetrizationReference()
 	       "Mitra, Guibas, Pauly, \"Symmetrization\", SIGGRAPH 2007.";
 }
 
+QString reductionIntro()
+{
+	return "Detects the partial and approximate symmetries of the current mesh (with the parameters of "
+	       "<i>Detect Partial and Approximate Symmetries</i>), then removes the faces that are copies of others "
+	       "(Figure 7(c) of the paper): a face of a symmetry's target patch goes when all its points, mapped back "
+	       "by the inverse transformation, land within the verification tolerance on faces that stay, or on a "
+	       "copy removed before (whose own instance then maps them on back, so one rotation rebuilds a whole "
+	       "orbit of blades from one). What stays is the new layer <i>symmetry_reduced</i>, made current; each "
+	       "removed copy is rebuilt by an <i>instance</i>: a transformation applied to some faces of the reduced "
+	       "mesh. Continuous families (surfaces of revolution, planes) have no finite set of copies and are "
+	       "left whole. The input mesh is not changed.<br>"
+	       "<i>Layer symmetry_reconstruction</i> (if <i>Create reconstruction layer</i> is on): the reduced mesh "
+	       "with every instance applied, to compare with the input.<br>"
+	       "<i>Instances file</i> (if a path is given): JSON with input_faces, reduced_faces, size_ratio, "
+	       "reconstruction_error and, per instance, symmetries (the detected symmetries composed, as in basis_words: k+1 is symmetry k, -(k+1) its inverse), "
+	       "transform (row-major 4x4), faces (indices into the reduced mesh's faces) and removed_faces.<br>";
+}
+
+QString reductionReturnedValues()
+{
+	return "<i>Returned values</i>: symmetry_count (symmetries detected), reduced_faces, size_ratio (reduced faces "
+	       "over input faces), instance_count, instance_transforms (16 numbers per instance, row-major 4x4), "
+	       "instance_face_counts and instance_faces (the reduced mesh's faces each instance copies, concatenated), "
+	       "instance_removed_faces (input faces each stands for), reconstruction_error (largest distance either "
+	       "way between the input and its reconstruction, fraction of the diagonal), reduced_layer_id and "
+	       "reconstruction_layer_id (-1 without that layer).<br>";
+}
+
+QString reductionReference()
+{
+	return "Symmetry-based reduction is one of the uses of the symmetry graph in: <i>Niloy J. Mitra, Leonidas J. "
+	       "Guibas, Mark Pauly</i>, <b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b>, "
+	       "SIGGRAPH 2006, Section 5 and Figure 7(c).";
+}
+
 }  // namespace
 
 QString detectionName()
@@ -93,6 +128,11 @@ QString symmetrizationName()
 	return "Symmetrize Approximate Symmetries";
 }
 
+QString reductionName()
+{
+	return "Symmetry-Based Reduction";
+}
+
 QString detectionInfo(bool returnsValues)
 {
 	return detectionIntro() + (returnsValues ? detectionReturnedValues() : QString()) + detectionReference();
@@ -102,6 +142,11 @@ QString symmetrizationInfo(bool returnsValues)
 {
 	return symmetrizationIntro() + (returnsValues ? symmetrizationReturnedValues() : QString()) +
 	       symmetrizationReference();
+}
+
+QString reductionInfo(bool returnsValues)
+{
+	return reductionIntro() + (returnsValues ? reductionReturnedValues() : QString()) + reductionReference();
 }
 
 }  // namespace symmetry_texts

@@ -11,11 +11,14 @@ namespace symmetry_texts {
 QString detectionName();
 /// "Symmetrize Approximate Symmetries".
 QString symmetrizationName();
+/// "Symmetry-Based Reduction".
+QString reductionName();
 
 /// The help text shown above the parameters: what the filter does, its outputs on the
 /// mesh, the paper.  `returnsValues`: the host returns values to the caller (MeshLab
 /// 2022 and later, pymeshlab), so their list is included; meshlabserver 2020.09 has none.
 QString detectionInfo(bool returnsValues);
 QString symmetrizationInfo(bool returnsValues);
+QString reductionInfo(bool returnsValues);
 
 }  // namespace symmetry_texts

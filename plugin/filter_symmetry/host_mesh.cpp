@@ -5,6 +5,11 @@
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/normal.h>
 
+#include <QFile>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -19,8 +24,10 @@ namespace {
 const char* const kSymmetryIdAttribute = "symmetry_id";
 
 /// Copies of the input vertices in `rows` (with position, normal, colour, quality) and
-/// of the faces whose three vertices are all among them.
-void copyPatch(const HostMesh& h, const std::vector<int>& rows, CMeshO& patch)
+/// of the faces whose three vertices are all among them, or, if `faceRows` is given, of
+/// those faces (rows of h.F whose vertices are all in `rows`) alone.
+void copyPatch(const HostMesh& h, const std::vector<int>& rows, CMeshO& patch,
+               const std::vector<int>* faceRows = nullptr)
 {
 	std::vector<int> patchIndex(size_t(h.V.rows()), -1);
 	for (int row : rows)
@@ -43,12 +50,18 @@ void copyPatch(const HostMesh& h, const std::vector<int>& rows, CMeshO& patch)
 	}
 
 	std::vector<Eigen::Vector3i> faces;
-	for (Eigen::Index f = 0; f < h.F.rows(); ++f) {
+	auto copyFace = [&](Eigen::Index f) {
 		Eigen::Vector3i t(patchIndex[size_t(h.F(f, 0))], patchIndex[size_t(h.F(f, 1))],
 		                  patchIndex[size_t(h.F(f, 2))]);
 		if (t.minCoeff() >= 0)
 			faces.push_back(t);
-	}
+	};
+	if (faceRows != nullptr)
+		for (int f : *faceRows)
+			copyFace(f);
+	else
+		for (Eigen::Index f = 0; f < h.F.rows(); ++f)
+			copyFace(f);
 	if (!faces.empty()) {
 		auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(patch, faces.size());
 		for (size_t i = 0; i < faces.size(); ++i, ++fi)
@@ -77,6 +90,10 @@ int changedData(Filter filter)
 {
 	if (filter == Filter::Symmetrization)
 		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
+	// Reduction adds layers and changes nothing of the input; as for detection, the numbers
+	// keep the GUI from offering a preview.
+	if (filter == Filter::Reduction)
+		return MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
 	// Detection also adds the patch layers, meshes of their own: saying so (vertex and face
 	// numbers) keeps the GUI from offering a preview, which would run the detection again
 	// and add another set of layers at every change of a parameter.
@@ -90,7 +107,10 @@ void appendParameters(Filter filter, double diagonal, RichParameterList& paramet
 		return;
 	}
 	symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters);
-	symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
+	if (filter == Filter::Symmetrization)
+		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
+	else
+		symmetry_parameters::appendReductionParameters(parameters);
 }
 
 HostMesh copyMesh(CMeshO& m)
@@ -201,16 +221,56 @@ void writeSymmetryIdAttribute(CMeshO& m, const HostMesh& h, const symmetry::Dete
 		id[*h.vertexOfRow[row]] = Scalarm(r.vertex_symmetry_id[row]);
 }
 
-MeshModel* addPatchLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& rows, const QString& name)
+namespace {
+
+void finishLayer(MeshModel* layer)
 {
-	MeshModel* layer = md.addNewMesh(QString(), name, false);
-	copyPatch(h, rows, layer->cm);
 #ifdef SYMMETRY_MESHLAB_2020_09
 	layer->UpdateBoxAndNormals();
 #else
 	layer->updateBoxAndNormals();
 	layer->updateDataMask();
 #endif
+}
+
+}  // namespace
+
+MeshModel* addPatchLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& rows, const QString& name)
+{
+	MeshModel* layer = md.addNewMesh(QString(), name, false);
+	copyPatch(h, rows, layer->cm);
+	finishLayer(layer);
+	return layer;
+}
+
+MeshModel* addFaceLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& faceRows, const QString& name,
+                        bool makeCurrent)
+{
+	std::vector<int> rows;
+	for (int f : faceRows)
+		for (int c = 0; c < 3; ++c)
+			rows.push_back(h.F(f, c));
+	std::sort(rows.begin(), rows.end());
+	rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+	MeshModel* layer = md.addNewMesh(QString(), name, makeCurrent);
+	copyPatch(h, rows, layer->cm, &faceRows);
+	finishLayer(layer);
+	return layer;
+}
+
+MeshModel* addMeshLayer(MeshDocument& md, const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const QString& name)
+{
+	MeshModel* layer = md.addNewMesh(QString(), name, false);
+	auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(layer->cm, size_t(V.rows()));
+	for (Eigen::Index v = 0; v < V.rows(); ++v, ++vi)
+		vi->P() = Point3m(Scalarm(V(v, 0)), Scalarm(V(v, 1)), Scalarm(V(v, 2)));
+	if (F.rows() > 0) {
+		auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(layer->cm, size_t(F.rows()));
+		for (Eigen::Index f = 0; f < F.rows(); ++f, ++fi)
+			for (int c = 0; c < 3; ++c)
+				fi->V(c) = &layer->cm.vert[size_t(F(f, c))];
+	}
+	finishLayer(layer);
 	return layer;
 }
 
@@ -422,6 +482,96 @@ QString symmetrizationLog(const Symmetrization& s)
 		"diagonal (strength %.2f, %d passes).",
 		s.moved.moved_vertices, s.symmetryCount, 100 * s.moved.rms_before, 100 * s.moved.rms_after, s.options.strength,
 		s.options.iterations);
+}
+
+namespace {
+
+/// Writes `bytes` to `path`, or throws an MLException saying why not.
+void writeFile(const QString& path, const QByteArray& bytes)
+{
+	QFile file(path);
+	if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate) || file.write(bytes) != bytes.size())
+		throw MLException(QString("Symmetry-based reduction could not write the instances file %1 (%2). Nothing was "
+		                          "added to the document.")
+		                      .arg(path, file.errorString()));
+}
+
+}  // namespace
+
+Reduction reduceMesh(MeshDocument& md, MeshModel& input, const RichParameterList& parameters,
+                     const symmetry::Progress& report)
+{
+	Reduction r;
+	const Detection detection = runDetection(input.cm, parameters, report, 80);
+	r.symmetryCount = int(detection.result.symmetries.size());
+	r.inputFaces = int(detection.host.F.rows());
+	callCore("Symmetry-based reduction", [&] {
+		if (report)
+			report(80, "Symmetry-based reduction");
+		r.reduced = symmetry::reduce_by_symmetry(detection.host.V, detection.host.F, detection.result,
+		                                         detection.options.verification_tolerance, symmetry::ReductionOptions());
+	});
+	// The file first: if it cannot be written, the document is still as it was.
+	r.instancesFile = symmetry_parameters::instancesFile(parameters);
+	if (!r.instancesFile.isEmpty())
+		writeFile(r.instancesFile, instancesJson(r));
+	try {
+		if (symmetry_parameters::createReconstructionLayer(parameters)) {
+			Eigen::MatrixX3d V;
+			Eigen::MatrixX3i F;
+			symmetry::reconstruct(detection.host.V, detection.host.F, r.reduced, V, F);
+			r.reconstructionLayerId = int(addMeshLayer(md, V, F, "symmetry_reconstruction")->id());
+		}
+		r.reducedLayerId = int(addFaceLayer(md, detection.host, r.reduced.kept_faces, "symmetry_reduced", true)->id());
+	}
+	catch (const std::bad_alloc&) {
+		throw MLException("Symmetry-based reduction ran out of memory while writing its results.");
+	}
+	return r;
+}
+
+QByteArray instancesJson(const Reduction& r)
+{
+	const std::vector<int>& kept = r.reduced.kept_faces;
+	QJsonArray instances;
+	for (const symmetry::ReducedInstance& instance : r.reduced.instances) {
+		QJsonArray word, matrix, faces;
+		for (int k : instance.word)
+			word.append(k);
+		const Eigen::Matrix4d m = instance.transform.matrix();
+		for (int i = 0; i < 4; ++i)
+			for (int j = 0; j < 4; ++j)
+				matrix.append(m(i, j));
+		// The reduced mesh holds the kept faces in increasing order: a face's index there is
+		// its place in kept_faces.
+		for (int f : instance.faces)
+			faces.append(int(std::lower_bound(kept.begin(), kept.end(), f) - kept.begin()));
+		QJsonObject o;
+		o["symmetries"] = word;
+		o["transform"] = matrix;
+		o["faces"] = faces;
+		o["removed_faces"] = instance.removed_faces;
+		instances.append(o);
+	}
+	QJsonObject root;
+	root["input_faces"] = r.inputFaces;
+	root["reduced_faces"] = int(kept.size());
+	root["size_ratio"] = r.reduced.size_ratio;
+	root["reconstruction_error"] = r.reduced.reconstruction_error;
+	root["instances"] = instances;
+	return QJsonDocument(root).toJson(QJsonDocument::Indented);
+}
+
+QString reductionLog(const Reduction& r)
+{
+	QString line = QString::asprintf(
+		"Reduced %d faces to %d (%.3g%%) under %d symmetries: %d instances rebuild the rest, within %.3g%% of the "
+		"diagonal.",
+		r.inputFaces, int(r.reduced.kept_faces.size()), 100 * r.reduced.size_ratio, r.symmetryCount,
+		int(r.reduced.instances.size()), 100 * r.reduced.reconstruction_error);
+	if (!r.instancesFile.isEmpty())
+		line += " Instances written to " + r.instancesFile + ".";
+	return line;
 }
 
 }  // namespace symmetry_host

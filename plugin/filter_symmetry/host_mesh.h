@@ -10,6 +10,7 @@
 #include "meshlab_api.h"
 
 #include <core/detection.h>
+#include <core/reduction.h>
 #include <core/symmetrization.h>
 
 #include <Eigen/Core>
@@ -19,8 +20,8 @@
 
 namespace symmetry_host {
 
-/// The two filters every adapter offers.
-enum class Filter { Detection, Symmetrization };
+/// The filters every adapter offers.
+enum class Filter { Detection, Symmetrization, Reduction };
 
 /// What `filter` changes in the document, as MeshLab's data mask (the same in every
 /// release): the adapters' postCondition.
@@ -57,6 +58,14 @@ void writeSymmetryIdAttribute(CMeshO& m, const HostMesh& h, const symmetry::Dete
 /// (with position, normal, colour, quality) and of the faces whose three vertices are all
 /// among them.
 MeshModel* addPatchLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& rows, const QString& name);
+
+/// A new layer `name` holding copies of the input faces `faceRows` (rows of h.F) and of their
+/// vertices, made current if `makeCurrent`.
+MeshModel* addFaceLayer(MeshDocument& md, const HostMesh& h, const std::vector<int>& faceRows, const QString& name,
+                        bool makeCurrent);
+
+/// A new layer `name` (not made current) holding the triangle mesh (V, F).
+MeshModel* addMeshLayer(MeshDocument& md, const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const QString& name);
 
 // What a reported symmetry is, in words: a continuous family with its axis, or the kind of
 // the discrete transformation (a rotation whose axis it also slides along is a screw, a
@@ -136,5 +145,30 @@ Symmetrization symmetrizeMesh(CMeshO& m, const RichParameterList& parameters, co
 
 /// The log line after a symmetrization.
 QString symmetrizationLog(const Symmetrization& s);
+
+/// What symmetry-based reduction made of the current mesh.
+struct Reduction {
+	int symmetryCount = 0;             ///< symmetries detected
+	int inputFaces = 0;                ///< faces of the input the core saw
+	symmetry::ReductionResult reduced; ///< faces kept, instances, reconstruction error
+	QString instancesFile;             ///< the JSON written, empty if none
+	int reducedLayerId = -1;           ///< the layer of the kept faces
+	int reconstructionLayerId = -1;    ///< the rebuilt model's layer, -1 if not asked for
+};
+
+/// Detects, then removes the faces that are copies of others (core/reduction.h): writes the
+/// instances to the JSON file if one is named, then adds the layer symmetry_reduced (the kept
+/// faces, made current) and, if asked, symmetry_reconstruction.  The input mesh is not
+/// changed; on failure (an MLException) nothing is added and no file is written.
+Reduction reduceMesh(MeshDocument& md, MeshModel& input, const RichParameterList& parameters,
+                     const symmetry::Progress& report);
+
+/// The instances as JSON: the input's and the reduced mesh's face counts, and per instance
+/// its word (k+1 symmetry k, -(k+1) its inverse), its row-major 4x4 matrix and the faces it copies (indices into the
+/// reduced mesh's faces).
+QByteArray instancesJson(const Reduction& r);
+
+/// The log line after a reduction.
+QString reductionLog(const Reduction& r);
 
 }  // namespace symmetry_host

@@ -167,4 +167,26 @@ symmetry::SymmetrizationOptions symmetrizationOptions(const RichParameterList& p
 	return o;
 }
 
+void appendReductionParameters(RichParameterList& parameters)
+{
+	parameters.addParam(RichBool(
+		"create_reconstruction_layer", false, "Create reconstruction layer",
+		"Also add the model rebuilt from the reduced mesh and its instances, as the layer "
+		"symmetry_reconstruction, to compare with the input."));
+	parameters.addParam(RichString(
+		"instances_file", "", "Instances file (JSON)",
+		"Path of a JSON file to write the instances to: for each, its 4x4 transformation and the faces of the "
+		"reduced mesh it copies. Empty: no file (the returned values hold the same)."));
+}
+
+bool createReconstructionLayer(const RichParameterList& p)
+{
+	return p.getBool("create_reconstruction_layer");
+}
+
+QString instancesFile(const RichParameterList& p)
+{
+	return p.getString("instances_file");
+}
+
 }  // namespace symmetry_parameters

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <core/detection.h>
+#include <core/reduction.h>
 #include <core/symmetrization.h>
 
 #include <optional>
@@ -36,5 +37,13 @@ bool createPatchLayers(const RichParameterList& parameters);
 /// appended after the detection parameters, and read back.
 void appendSymmetrizationParameters(const symmetry::SymmetrizationOptions& options, RichParameterList& parameters);
 symmetry::SymmetrizationOptions symmetrizationOptions(const RichParameterList& parameters);
+
+/// The reduction filter's own parameters, appended after the detection parameters:
+/// create_reconstruction_layer and instances_file (the JSON file the instances go to, none
+/// when empty), which only tell the adapter what to write; the core's ReductionOptions keep
+/// their defaults.
+void appendReductionParameters(RichParameterList& parameters);
+bool createReconstructionLayer(const RichParameterList& parameters);
+QString instancesFile(const RichParameterList& parameters);
 
 }  // namespace symmetry_parameters

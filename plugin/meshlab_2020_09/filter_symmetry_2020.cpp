@@ -32,7 +32,7 @@ symmetry::Progress progressOf(vcg::CallBackPos* cb)
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION};
 	for (FilterIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -47,6 +47,7 @@ QString FilterSymmetryPlugin::filterName(FilterIDType filter) const
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionName();
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
+	case FP_REDUCTION: return symmetry_texts::reductionName();
 	default: assert(0); return QString();
 	}
 }
@@ -56,13 +57,18 @@ QString FilterSymmetryPlugin::filterInfo(FilterIDType filter) const
 	switch (filter) {
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionInfo(false);
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(false);
+	case FP_REDUCTION: return symmetry_texts::reductionInfo(false);
 	default: assert(0); return QString();
 	}
 }
 
 MeshFilterInterface::FilterClass FilterSymmetryPlugin::getClass(QAction* action)
 {
-	return ID(action) == FP_SYMMETRIZATION ? MeshFilterInterface::Smoothing : MeshFilterInterface::Measure;
+	switch (ID(action)) {
+	case FP_SYMMETRIZATION: return MeshFilterInterface::Smoothing;
+	case FP_REDUCTION: return MeshFilterInterface::Remeshing;
+	default: return MeshFilterInterface::Measure;
+	}
 }
 
 MeshFilterInterface::FILTER_ARITY FilterSymmetryPlugin::filterArity(QAction*) const
@@ -87,7 +93,11 @@ void FilterSymmetryPlugin::initParameterSet(QAction* action, MeshModel& m, RichP
 
 symmetry_host::Filter FilterSymmetryPlugin::filterOf(QAction* action) const
 {
-	return ID(action) == FP_SYMMETRIZATION ? symmetry_host::Filter::Symmetrization : symmetry_host::Filter::Detection;
+	switch (ID(action)) {
+	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
+	case FP_REDUCTION: return symmetry_host::Filter::Reduction;
+	default: return symmetry_host::Filter::Detection;
+	}
 }
 
 bool FilterSymmetryPlugin::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
@@ -99,6 +109,7 @@ bool FilterSymmetryPlugin::applyFilter(QAction* action, MeshDocument& md, const 
 		switch (ID(action)) {
 		case FP_PARTIAL_SYMMETRIES: detectPartialSymmetries(md, parameters, cb); break;
 		case FP_SYMMETRIZATION: symmetrize(md, parameters, cb); break;
+		case FP_REDUCTION: reduce(md, parameters, cb); break;
 		default: throw MLException("Unknown filter of the symmetry plugin.");
 		}
 		return true;
@@ -133,4 +144,13 @@ void FilterSymmetryPlugin::symmetrize(MeshDocument& md, const RichParameterList&
 		throw MLException("There is no current mesh to symmetrize.");
 	const symmetry_host::Symmetrization done = symmetry_host::symmetrizeMesh(input->cm, parameters, progressOf(cb));
 	Log(qUtf8Printable(symmetry_host::symmetrizationLog(done)));
+}
+
+void FilterSymmetryPlugin::reduce(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* input = md.mm();
+	if (input == nullptr)
+		throw MLException("There is no current mesh to reduce.");
+	const symmetry_host::Reduction done = symmetry_host::reduceMesh(md, *input, parameters, progressOf(cb));
+	Log(qUtf8Printable(symmetry_host::reductionLog(done)));
 }

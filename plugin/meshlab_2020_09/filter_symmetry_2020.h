@@ -18,14 +18,14 @@ class FilterSymmetryPlugin : public QObject, public MeshFilterInterface
 	Q_INTERFACES(MeshFilterInterface)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION };
 
 	FilterSymmetryPlugin();
 
 	/// "FilterSymmetry".
 	QString pluginName() const override;
 	/// The menu entries, the names a filter script (.mlx) uses: "Detect Partial and
-	/// Approximate Symmetries" and "Symmetrize Approximate Symmetries".
+	/// Approximate Symmetries", "Symmetrize Approximate Symmetries" and "Symmetry-Based Reduction".
 	QString filterName(FilterIDType filter) const override;
 	/// Paper reference and the meaning of every output written to the mesh.
 	QString filterInfo(FilterIDType filter) const override;
@@ -35,6 +35,7 @@ public:
 	/// None: the core itself refuses what it cannot analyse, saying what to do.
 	int getPreConditions(QAction* action) const override;
 	/// Detection: vertex quality and colour.  Symmetrization: positions and normals.
+	/// Reduction: vertex and face numbers (new layers).
 	int postCondition(QAction* action) const override;
 	/// The parameters in their public order (the names a filter script uses), defaults
 	/// from symmetry::DetectionOptions.
@@ -47,7 +48,8 @@ public:
 private:
 	void detectPartialSymmetries(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 	void symmetrize(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+	void reduce(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 
-	/// Which of the two filters `action` is (host_mesh.h's Filter).
+	/// Which of the filters `action` is (host_mesh.h's Filter).
 	symmetry_host::Filter filterOf(QAction* action) const;
 };

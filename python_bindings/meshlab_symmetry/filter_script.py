@@ -18,6 +18,8 @@ from .api import GROUPS, PARAMETERS, _group_index
 
 #: the menu entry of the detection filter, the name a filter script uses
 DETECTION_FILTER = "Detect Partial and Approximate Symmetries"
+#: the menu entry of the reduction filter (issue 9)
+REDUCTION_FILTER = "Symmetry-Based Reduction"
 
 # The display names of transformation_group's values, as the plugin lists them
 # (symmetry_parameters.cpp); a script carries them, the filter reads only the index.
@@ -37,6 +39,24 @@ def meshlabserver_script(diagonal: float, create_patch_layers: bool = False, **p
 
     Raises ValueError for a diagonal that is not a positive number or an unknown parameter.
     """
+    return _script(DETECTION_FILTER, diagonal, parameters, {"create_patch_layers": ("RichBool", create_patch_layers)})
+
+
+def meshlabserver_reduction_script(diagonal: float, instances_file: str = "",
+                                   create_reconstruction_layer: bool = False, **parameters: Any) -> str:
+    """The same for "Symmetry-Based Reduction": detection with detect's parameters, then the
+    faces that are copies of others removed.  meshlabserver saves the current mesh, which
+    the filter makes the reduced one; ``instances_file`` names the JSON of the instances that
+    rebuild the rest (none when empty)."""
+    return _script(REDUCTION_FILTER, diagonal, parameters, {},
+                   [_element("create_reconstruction_layer", "RichBool", "true" if create_reconstruction_layer else "false"),
+                    _element("instances_file", "RichString", str(instances_file))])
+
+
+def _script(filter_name, diagonal, parameters, before_seed, after=()):
+    """A script of one filter: detect's parameters in the plugin's order, `before_seed`
+    ({name: (type, bool)}) just before random_seed as the detection filter has it, and the
+    elements `after` at the end."""
     if not diagonal > 0:
         raise ValueError(f"the diagonal is {diagonal}; a filter script needs the positive bounding-box diagonal "
                          "of the mesh it is for")
@@ -44,11 +64,13 @@ def meshlabserver_script(diagonal: float, create_patch_layers: bool = False, **p
     unknown = sorted(set(parameters) - known)
     if unknown:
         raise ValueError(f"unknown parameter(s) {', '.join(unknown)}; detect takes {', '.join(sorted(known))}")
-    lines = ["<!DOCTYPE FilterScript>", "<FilterScript>", f" <filter name={quoteattr(DETECTION_FILTER)}>"]
+    lines = ["<!DOCTYPE FilterScript>", "<FilterScript>", f" <filter name={quoteattr(filter_name)}>"]
     for p in PARAMETERS:
-        if p.name == "random_seed":  # the filter's order has create_patch_layers before it
-            lines.append("  " + _element("create_patch_layers", "RichBool", "true" if create_patch_layers else "false"))
+        if p.name == "random_seed":
+            for name, (kind, value) in before_seed.items():
+                lines.append("  " + _element(name, kind, "true" if value else "false"))
         lines.append("  " + _param(p, parameters.get(p.name, p.default), diagonal))
+    lines += ["  " + e for e in after]
     lines += [" </filter>", "</FilterScript>", ""]
     return "\n".join(lines)
 

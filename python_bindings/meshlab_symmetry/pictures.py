@@ -343,6 +343,42 @@ def patches_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
     return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
 
 
+def reduction_picture(reduced: tuple[np.ndarray, np.ndarray], instances: Sequence[tuple[np.ndarray, np.ndarray]],
+                      path: str, *, view: tuple[float, float] = (20.0, -60.0)) -> Picture:
+    """The model rebuilt from a symmetry-based reduction (generate_symmetry_based_reduction):
+    the reduced mesh ``reduced`` = (vertices, faces) in the first colour, and each instance,
+    (its 4x4 matrix, the reduced mesh's faces it copies), transformed into place in grey,
+    lighter the later it comes; the legend gives the share of faces kept."""
+    V, F = (np.asarray(a) for a in reduced)
+    pieces = [(V, F, np.asarray(PALETTE[0]))]
+    for k, (M, faces) in enumerate(instances):
+        M = np.asarray(M, dtype=float)
+        grey = 0.55 + 0.3 * k / max(len(instances) - 1, 1)
+        pieces.append((V @ M[:3, :3].T + M[:3, 3], F[np.asarray(faces, dtype=np.int64)], np.full(3, grey)))
+    copied = sum(len(piece[1]) for piece in pieces[1:])
+    total = len(F) + copied
+    tiles, rgb = [], []
+    for W, G, colour in pieces:
+        # Each piece simplified on its own to its share of MAX_DRAWN_FACES: drawing every face
+        # of a large model takes minutes, and dropping faces would draw holes.
+        share = max(int(MAX_DRAWN_FACES * len(G) / total), 4)
+        if len(G) > share:
+            ms = _private_meshset((W, G))
+            ms.meshing_decimation_quadric_edge_collapse(targetfacenum=share, preservenormal=True)
+            W, G = ms.current_mesh().vertex_matrix(), ms.current_mesh().face_matrix()
+        tiles.append(W[G])
+        rgb.append(np.tile(colour, (len(G), 1)))
+    triangles, rgb = np.concatenate(tiles), np.concatenate(rgb)
+    instances_text = f"{len(instances)} instance" + ("" if len(instances) == 1 else "s")
+    fig = _new_figure(f"Symmetry-based reduction: {len(F)} faces kept, {instances_text}")
+    ax = _mesh_axes(fig, triangles.reshape(-1, 3), view)
+    _add_surface(ax, triangles, np.hstack([_shaded(rgb, triangles, view), np.ones((len(rgb), 1))]))
+    handles = [Patch(color=PALETTE[0], label=f"kept: {len(F)} faces"),
+               Patch(color=(0.7, 0.7, 0.7), label=f"rebuilt by {instances_text} ({copied} faces copied)")]
+    legend = fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.66, 0.5), fontsize=9)
+    return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
+
+
 # --- c. transformation space: the detector's own Γ (§3) ----------------------------------------------
 
 def detector_transformation_space(mesh: MeshInput, result: SymmetryResult) -> dict[str, np.ndarray]:

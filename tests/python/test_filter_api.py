@@ -123,13 +123,15 @@ def _one_triangle(tmp_path):
 @pytest.mark.parametrize("make", [_point_cloud, _point_cloud_with_normals, _empty_mesh, _nan_mesh, _infinite_mesh,
                                   _one_triangle],
                          ids=["point_cloud", "point_cloud_with_normals", "empty", "nan", "infinite", "one_triangle"])
-def test_unusable_mesh_is_rejected_and_left_unchanged(make, tmp_path):
+@pytest.mark.parametrize("name", [FILTER, meshlab_symmetry.REDUCTION_FILTER_NAME], ids=["detection", "reduction"])
+def test_unusable_mesh_is_rejected_and_left_unchanged(make, name, tmp_path):
+    """Detection, and reduction (which detects first and must add no layer on failure)."""
     ms = make(tmp_path)
     before = mesh_snapshot(ms)
     with pytest.raises(pymeshlab.PyMeshLabException) as error:
-        run(ms)
+        getattr(ms, name)()
     message = str(error.value)
-    assert FILTER in message and len(message) > len(FILTER) + 20
+    assert name in message and len(message) > len(name) + 20
     assert "Traceback" not in message and "internal error" not in message
     assert_mesh_unchanged(ms, before)
 

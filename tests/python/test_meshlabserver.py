@@ -9,6 +9,7 @@ on a scene with a planted mirror, and checks the saved per-vertex quality and co
 log against the planted transform.  Off CI it is skipped when meshlabserver or the plugin is
 missing; on CI (CI=true) that is a failure, since `make test` builds and installs both.
 """
+import json
 import os
 import re
 import shutil
@@ -26,7 +27,7 @@ import scenes  # noqa: E402
 sys.path.insert(0, os.path.dirname(__file__))
 from conftest import skip_unless_ci  # noqa: E402
 
-from meshlab_symmetry.filter_script import meshlabserver_script  # noqa: E402
+from meshlab_symmetry.filter_script import meshlabserver_reduction_script, meshlabserver_script  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 PLUGIN = os.path.join(ROOT, "build", "meshlab-2020.09", "libfilter_symmetry.so")
@@ -131,6 +132,26 @@ def test_meshlabserver_finds_the_planted_mirror_and_saves_quality(installed_plug
     assert np.abs(quality[patch]).max() <= 0.01 + 1e-6
     assert np.abs(quality[patch]).max() > 0  # a re-tessellated copy is not exact: quality was written
     assert np.all(quality[~in_symmetry] == 0)
+
+
+def test_meshlabserver_reduction_saves_one_copy_and_writes_the_instances(installed_plugin, mirrored_scene, tmp_path):
+    """Symmetry-Based Reduction in a batch job: the saved mesh is the reduced one (the
+    filter makes it current), about one of the two mirrored copies, and the instances file
+    holds the mirror that rebuilds the other, against the planted one."""
+    scene, path = mirrored_scene
+    instances = tmp_path / "instances.json"
+    run, out = _meshlabserver(tmp_path, path, meshlabserver_reduction_script(scene.diagonal, str(instances)))
+    log = run.stdout + run.stderr
+    assert run.returncode == 0 and out.exists() and instances.exists(), log[-3000:]
+    assert "Reduced %d faces to" % len(scene.faces) in log, log[-3000:]
+    written = json.loads(instances.read_text())
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(out))
+    assert ms.current_mesh().face_number() == written["reduced_faces"] < 0.7 * len(scene.faces)
+    planted = scene.symmetries[0]
+    transforms = [np.reshape(i["transform"], (4, 4)) for i in written["instances"]]
+    k, distance = metrics.match_planted(scene, transforms, planted)
+    assert k >= 0, f"no instance within {metrics.RECALL_TOL} of the planted mirror (best {distance:.4f})"
 
 
 def test_meshlabserver_failure_says_why_and_writes_nothing(installed_plugin, mirrored_scene, tmp_path):
