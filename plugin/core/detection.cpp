@@ -30,12 +30,10 @@ namespace symmetry {
 
 namespace {
 
+// require_parameter (detection.h) under a name short enough for validate()'s table of ranges.
 template <class T>
 void require(bool ok, const char* name, T value, const char* range) {
-    if (ok) return;
-    std::ostringstream s;
-    s << "The parameter " << name << " is " << value << ", but it must be " << range << ".";
-    throw InputError(s.str());
+    require_parameter(ok, name, value, range);
 }
 
 using Clock = std::chrono::steady_clock;

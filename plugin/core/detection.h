@@ -16,10 +16,21 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
 namespace symmetry {
+
+/// Throws InputError "The parameter <name> is <value>, but it must be <range>." unless ok:
+/// how every options struct's validate() says what is wrong.
+template <class T>
+void require_parameter(bool ok, const char* name, T value, const char* range) {
+    if (ok) return;
+    std::ostringstream s;
+    s << "The parameter " << name << " is " << value << ", but it must be " << range << ".";
+    throw InputError(s.str());
+}
 
 /// Every parameter of the filter, in the core's units.  Lengths are fractions of the
 /// bounding-box diagonal, areas fractions of the total surface area.

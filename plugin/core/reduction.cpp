@@ -10,7 +10,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -271,18 +270,12 @@ double reconstruction_error(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F
 }  // namespace
 
 void ReductionOptions::validate() const {
-    auto text = [](double value) {
-        std::ostringstream out;
-        out << value;
-        return out.str();
-    };
-    if (!(max_distance_in_tolerances > 0 && max_distance_in_tolerances <= 10))
-        throw InputError("reduction_distance is " + text(max_distance_in_tolerances) +
-                         " tolerances, but it must be greater than 0 and at most 10.");
-    if (max_chain_length < 1 || max_chain_length > 64)
-        throw InputError("max_chain_length is " + text(max_chain_length) + ", but it must be between 1 and 64.");
-    if (!(min_rotation_angle > 0 && min_rotation_angle < 1))
-        throw InputError("min_rotation_angle is " + text(min_rotation_angle) + " radians, but it must be in (0, 1).");
+    require_parameter(max_distance_in_tolerances > 0 && max_distance_in_tolerances <= 10,
+                      "max_distance_in_tolerances", max_distance_in_tolerances, "greater than 0 and at most 10");
+    require_parameter(max_chain_length >= 1 && max_chain_length <= 64, "max_chain_length", max_chain_length,
+                      "between 1 and 64");
+    require_parameter(min_rotation_angle > 0 && min_rotation_angle < 1, "min_rotation_angle", min_rotation_angle,
+                      "strictly between 0 and 1 radian");
 }
 
 ReductionResult reduce_by_symmetry(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,

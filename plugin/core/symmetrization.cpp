@@ -3,7 +3,6 @@
 #include "surface_query.h"
 
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -83,17 +82,10 @@ PassOutcome symmetrization_pass(Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, 
 }  // namespace
 
 void SymmetrizationOptions::validate() const {
-    auto text = [](double value) {
-        std::ostringstream out;
-        out << value;
-        return out.str();
-    };
-    if (!(strength >= 0 && strength <= 1))
-        throw InputError("strength is " + text(strength) + ", but it must be between 0 and 1.");
-    if (iterations < 1 || iterations > 100)
-        throw InputError("symmetrization_iterations is " + text(iterations) + ", but it must be between 1 and 100.");
-    if (!(max_distance_in_tolerances > 0))
-        throw InputError("max_distance_in_tolerances must be greater than 0.");
+    require_parameter(strength >= 0 && strength <= 1, "strength", strength, "between 0 and 1");
+    require_parameter(iterations >= 1 && iterations <= 100, "symmetrization_iterations", iterations, "between 1 and 100");
+    require_parameter(max_distance_in_tolerances > 0, "max_distance_in_tolerances", max_distance_in_tolerances,
+                      "greater than 0");
 }
 
 SymmetrizationResult symmetrize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionResult& detected,
