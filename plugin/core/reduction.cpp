@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -16,30 +15,21 @@
 namespace symmetry {
 namespace {
 
-// The input as one searchable surface whose closest-point queries answer with rows of F.
+// The input as one searchable surface, answering with rows of F.
 class Surface {
 public:
-    Surface(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
-        std::vector<int> vertex_of_input;
-        MeshRepairs repairs;
-        build_mesh(V, F, mesh_, vertex_of_input, &repairs);
-        row_of_face_ = std::move(repairs.face_of_input);
-        query_ = std::make_unique<SurfaceQuery>(mesh_, 8);
-    }
+    Surface(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) : rows_(V, F) {}
     /// The row of F of the face nearest to x within max_distance; -1 if none.
     int face_at(const Eigen::Vector3d& x, double max_distance) const {
-        const ClosestPoint c = query_->closest(x, max_distance);
-        return c.found ? row_of_face_[size_t(c.face)] : -1;
+        return rows_.closest(x, max_distance).face;
     }
     double distance(const Eigen::Vector3d& x, double max_distance) const {
-        const ClosestPoint c = query_->closest(x, max_distance);
+        const ClosestPoint c = rows_.closest(x, max_distance);
         return c.found ? c.distance : max_distance;
     }
 
 private:
-    Mesh mesh_;
-    std::vector<int> row_of_face_;
-    std::unique_ptr<SurfaceQuery> query_;
+    SurfaceOfRows rows_;
 };
 
 // The points of a face that must all land back on the surface for it to be a copy: its

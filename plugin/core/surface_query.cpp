@@ -124,4 +124,20 @@ ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_dist
     return closest_point(mesh_, query, f, nearest);
 }
 
+SurfaceOfRows::SurfaceOfRows(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+    std::vector<int> vertex_of_input;
+    MeshRepairs repairs;
+    build_mesh(V, F, mesh_, vertex_of_input, &repairs);
+    row_of_face_ = std::move(repairs.face_of_input);
+    query_ = std::make_unique<SurfaceQuery>(mesh_, 8);  // many queries: a finer grid pays
+}
+
+SurfaceOfRows::~SurfaceOfRows() = default;
+
+ClosestPoint SurfaceOfRows::closest(const Eigen::Vector3d& query, double max_distance) const {
+    ClosestPoint c = query_->closest(query, max_distance);
+    if (c.found) c.face = row_of_face_[size_t(c.face)];
+    return c;
+}
+
 }  // namespace symmetry

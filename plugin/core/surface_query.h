@@ -49,4 +49,20 @@ private:
     std::unique_ptr<Grid> grid_;
 };
 
+/// The triangle mesh (V, F) itself, searchable, answering with rows of F: for the uses of a
+/// result (reduction, consistent editing), which work on the input's rows, not on the
+/// pipeline's copy.  Built by build_mesh (degenerate faces are never found).
+class SurfaceOfRows {
+public:
+    SurfaceOfRows(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+    ~SurfaceOfRows();
+    /// The closest point within `max_distance`, its `face` a row of F; found=false if none.
+    ClosestPoint closest(const Eigen::Vector3d& query, double max_distance) const;
+
+private:
+    Mesh mesh_;
+    std::vector<int> row_of_face_;
+    std::unique_ptr<SurfaceQuery> query_;
+};
+
 }  // namespace symmetry

@@ -104,7 +104,7 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING};
 	for (ActionIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -120,6 +120,7 @@ QString FilterSymmetryPlugin::filterName(ActionIDType filter) const
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionName();
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
 	case FP_REDUCTION: return symmetry_texts::reductionName();
+	case FP_EDITING: return symmetry_texts::editingName();
 	default: assert(0); return QString();
 	}
 }
@@ -130,6 +131,7 @@ QString FilterSymmetryPlugin::pythonFilterName(ActionIDType filter) const
 	case FP_PARTIAL_SYMMETRIES: return "compute_partial_symmetries";
 	case FP_SYMMETRIZATION: return "apply_coord_symmetrization";
 	case FP_REDUCTION: return "generate_symmetry_based_reduction";
+	case FP_EDITING: return "apply_coord_consistent_editing";
 	default: assert(0); return QString();
 	}
 }
@@ -140,6 +142,7 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionInfo(true);
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(true);
 	case FP_REDUCTION: return symmetry_texts::reductionInfo(true);
+	case FP_EDITING: return symmetry_texts::editingInfo(true);
 	default: assert(0); return QString();
 	}
 }
@@ -147,7 +150,8 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 FilterPlugin::FilterClass FilterSymmetryPlugin::getClass(const QAction* action) const
 {
 	switch (ID(action)) {
-	case FP_SYMMETRIZATION: return FilterPlugin::Smoothing;
+	case FP_SYMMETRIZATION:
+	case FP_EDITING: return FilterPlugin::Smoothing;
 	case FP_REDUCTION: return FilterPlugin::Remeshing;
 	default: return FilterPlugin::Measure;
 	}
@@ -171,10 +175,10 @@ int FilterSymmetryPlugin::postCondition(const QAction* action) const
 	return symmetry_host::changedData(filterOf(action));
 }
 
-RichParameterList FilterSymmetryPlugin::initParameterList(const QAction* action, const MeshModel& m)
+RichParameterList FilterSymmetryPlugin::initParameterList(const QAction* action, const MeshDocument& md)
 {
 	RichParameterList parameters;
-	symmetry_host::appendParameters(filterOf(action), m.cm.bbox.Diag(), parameters);
+	symmetry_host::appendParameters(filterOf(action), md, parameters);
 	return parameters;
 }
 
@@ -184,6 +188,7 @@ symmetry_host::Filter FilterSymmetryPlugin::filterOf(const QAction* action) cons
 	case FP_PARTIAL_SYMMETRIES: return symmetry_host::Filter::Detection;
 	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
 	case FP_REDUCTION: return symmetry_host::Filter::Reduction;
+	case FP_EDITING: return symmetry_host::Filter::Editing;
 	default: wrongActionCalled(action);
 	}
 	return symmetry_host::Filter::Detection;
@@ -197,6 +202,7 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::applyFilter(
 	case FP_PARTIAL_SYMMETRIES: return detectPartialSymmetries(md, parameters, cb);
 	case FP_SYMMETRIZATION: return symmetrize(md, parameters, cb);
 	case FP_REDUCTION: return reduce(md, parameters, cb);
+	case FP_EDITING: return carryEdit(md, parameters, cb);
 	default: wrongActionCalled(action);
 	}
 	return {};
@@ -265,6 +271,23 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::reduce(
 	out["reconstruction_error"] = QVariant(done.reduced.reconstruction_error);
 	out["reduced_layer_id"] = QVariant(done.reducedLayerId);
 	out["reconstruction_layer_id"] = QVariant(done.reconstructionLayerId);
+	return out;
+}
+
+std::map<std::string, QVariant> FilterSymmetryPlugin::carryEdit(
+	MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* edited = md.mm();
+	MeshModel* original = symmetry_host::originalMesh(md, parameters);
+	if (edited == nullptr || original == nullptr)
+		throw MLException("Consistent editing needs the edited mesh as the current mesh and the original as original_mesh.");
+	const symmetry_host::Editing done = symmetry_host::carryEdit(*original, *edited, parameters, progressOf(cb));
+	log(symmetry_host::editingLog(done).toStdString());
+	std::map<std::string, QVariant> out;
+	out["symmetry_count"] = QVariant(done.symmetryCount);
+	out["edited_vertices"] = QVariant(done.moved.edited_vertices);
+	out["carried_vertices"] = QVariant(done.moved.carried_vertices);
+	out["passes"] = QVariant(done.moved.passes);
 	return out;
 }
 

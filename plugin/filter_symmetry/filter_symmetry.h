@@ -18,17 +18,17 @@ class FilterSymmetryPlugin : public QObject, public FilterPlugin
 	Q_INTERFACES(FilterPlugin)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING };
 
 	FilterSymmetryPlugin();
 
 	/// "FilterSymmetry".
 	QString pluginName() const override;
 	/// The menu entries, "Detect Partial and Approximate Symmetries", "Symmetrize
-	/// Approximate Symmetries" and "Symmetry-Based Reduction".
+	/// Approximate Symmetries", "Symmetry-Based Reduction" and "Carry an Edit to Symmetric Copies".
 	QString filterName(ActionIDType filter) const override;
-	/// compute_partial_symmetries, apply_coord_symmetrization, generate_symmetry_based_reduction:
-	/// public API, never rename.
+	/// compute_partial_symmetries, apply_coord_symmetrization, generate_symmetry_based_reduction,
+	/// apply_coord_consistent_editing: public API, never rename.
 	QString pythonFilterName(ActionIDType filter) const override;
 	/// Paper reference and the meaning of every output.
 	QString filterInfo(ActionIDType filter) const override;
@@ -41,8 +41,10 @@ public:
 	/// adds (so the GUI offers no preview).  Symmetrization: vertex positions and normals.
 	/// Reduction: vertex and face numbers (it adds layers).
 	int postCondition(const QAction* action) const override;
-	/// The parameters in their public order, defaults from symmetry::DetectionOptions.
-	RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
+	/// The parameters in their public order, defaults from symmetry::DetectionOptions; for
+	/// consistent editing also the original mesh, a mesh of the document.
+	RichParameterList initParameterList(const QAction* action, const MeshDocument& md) override;
+	using FilterPlugin::initParameterList;
 	/// Dispatches to detectPartialSymmetries().
 	std::map<std::string, QVariant> applyFilter(
 		const QAction* action,
@@ -64,6 +66,10 @@ private:
 	/// Removes the faces that are copies of others (core/reduction.h), as new layers; the
 	/// input is not changed.
 	std::map<std::string, QVariant> reduce(
+		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+
+	/// Carries an edit of the current mesh to the copies of the edited part (core/consistent_editing.h).
+	std::map<std::string, QVariant> carryEdit(
 		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 
 	/// Which of the filters `action` is (host_mesh.h's Filter).

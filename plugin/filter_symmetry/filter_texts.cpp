@@ -116,6 +116,23 @@ QString reductionReference()
 	       "SIGGRAPH 2006, Section 5 and Figure 7(c).";
 }
 
+QString editingIntro()
+{
+	return "Carries an edit made on one copy to every copy a detected symmetry relates it to (Figure 7(d) of the "
+	       "paper). The current mesh is the edited one: a copy of <i>Original mesh</i> with the same vertices and "
+	       "faces, some vertices moved. The symmetries are detected on the original (with the parameters of "
+	       "<i>Detect Partial and Approximate Symmetries</i>); each vertex of a symmetric copy that maps back onto "
+	       "the edited part receives the displacement there, turned by the symmetry (rotated, mirrored, scaled), "
+	       "and passes repeat so that an edit travels along a row of copies. The vertices you moved keep their "
+	       "position; the original mesh is not changed.<br>";
+}
+
+QString editingReturnedValues()
+{
+	return "<i>Returned values</i>: symmetry_count (symmetries detected on the original), edited_vertices "
+	       "(vertices you moved), carried_vertices (vertices that received the edit), passes.<br>";
+}
+
 }  // namespace
 
 QString detectionName()
@@ -133,6 +150,11 @@ QString reductionName()
 	return "Symmetry-Based Reduction";
 }
 
+QString editingName()
+{
+	return "Carry an Edit to Symmetric Copies";
+}
+
 QString detectionInfo(bool returnsValues)
 {
 	return detectionIntro() + (returnsValues ? detectionReturnedValues() : QString()) + detectionReference();
@@ -147,6 +169,14 @@ QString symmetrizationInfo(bool returnsValues)
 QString reductionInfo(bool returnsValues)
 {
 	return reductionIntro() + (returnsValues ? reductionReturnedValues() : QString()) + reductionReference();
+}
+
+QString editingInfo(bool returnsValues)
+{
+	return editingIntro() + (returnsValues ? editingReturnedValues() : QString()) +
+	       "Consistent editing is one of the uses of the symmetry graph in: <i>Niloy J. Mitra, Leonidas J. Guibas, "
+	       "Mark Pauly</i>, <b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b>, SIGGRAPH 2006, "
+	       "Section 5 and Figure 7(d).";
 }
 
 }  // namespace symmetry_texts

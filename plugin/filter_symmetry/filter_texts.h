@@ -13,6 +13,8 @@ QString detectionName();
 QString symmetrizationName();
 /// "Symmetry-Based Reduction".
 QString reductionName();
+/// "Carry an Edit to Symmetric Copies".
+QString editingName();
 
 /// The help text shown above the parameters: what the filter does, its outputs on the
 /// mesh, the paper.  `returnsValues`: the host returns values to the caller (MeshLab
@@ -20,5 +22,6 @@ QString reductionName();
 QString detectionInfo(bool returnsValues);
 QString symmetrizationInfo(bool returnsValues);
 QString reductionInfo(bool returnsValues);
+QString editingInfo(bool returnsValues);
 
 }  // namespace symmetry_texts

@@ -88,7 +88,7 @@ QString transformText(const symmetry::DetectedSymmetry& s)
 
 int changedData(Filter filter)
 {
-	if (filter == Filter::Symmetrization)
+	if (filter == Filter::Symmetrization || filter == Filter::Editing)
 		return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL;
 	// Reduction adds layers and changes nothing of the input; as for detection, the numbers
 	// keep the GUI from offering a preview.
@@ -109,8 +109,39 @@ void appendParameters(Filter filter, double diagonal, RichParameterList& paramet
 	symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters);
 	if (filter == Filter::Symmetrization)
 		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
-	else
+	else if (filter == Filter::Reduction)
 		symmetry_parameters::appendReductionParameters(parameters);
+}
+
+void appendParameters(Filter filter, ParameterDocument md, RichParameterList& parameters)
+{
+	const MeshModel* current = md.mm();
+	appendParameters(filter, current != nullptr ? double(current->cm.bbox.Diag()) : 0.0, parameters);
+	if (filter != Filter::Editing)
+		return;
+	// The original is another mesh than the edited (current) one, as a boolean's second operand.
+	const MeshModel* original = current;
+#ifdef SYMMETRY_MESHLAB_2020_09
+	for (const MeshModel* m : md.meshList)
+		if (m != current) {
+			original = m;
+			break;
+		}
+#else
+	for (const MeshModel& m : md.meshIterator())
+		if (&m != current) {
+			original = &m;
+			break;
+		}
+#endif
+	const QString name = "original_mesh", label = "Original mesh";
+	const QString help = "The mesh before the edit (the symmetries are detected on it): the current mesh is its "
+	                     "edited copy, with the same vertices and faces, some of them moved.";
+#ifdef SYMMETRY_MESHLAB_2020_09
+	parameters.addParam(RichMesh(name, const_cast<MeshModel*>(original), &md, label, help));
+#else
+	parameters.addParam(RichMesh(name, original != nullptr ? original->id() : 0, &md, label, help));
+#endif
 }
 
 HostMesh copyMesh(CMeshO& m)
@@ -572,6 +603,56 @@ QString reductionLog(const Reduction& r)
 	if (!r.instancesFile.isEmpty())
 		line += " Instances written to " + r.instancesFile + ".";
 	return line;
+}
+
+MeshModel* originalMesh(MeshDocument& md, const RichParameterList& parameters)
+{
+#ifdef SYMMETRY_MESHLAB_2020_09
+	return parameters.getMesh("original_mesh");
+#else
+	return md.getMesh(parameters.getMeshId("original_mesh"));
+#endif
+}
+
+Editing carryEdit(MeshModel& original, MeshModel& edited, const RichParameterList& parameters,
+                  const symmetry::Progress& report)
+{
+	if (&original == &edited)
+		throw MLException("Consistent editing needs two meshes: the original (original_mesh) and its edited copy "
+		                  "(the current mesh); both name the same mesh. Duplicate the mesh, edit the copy, and run the "
+		                  "filter on the copy with the original as original_mesh.");
+	const HostMesh copy = copyMesh(edited.cm);
+	const Detection detection = runDetection(original.cm, parameters, report, 80);
+	if (copy.F.rows() != detection.host.F.rows() || copy.F != detection.host.F)
+		throw MLException(QString("The edited mesh has %1 faces and the original %2, or other ones: consistent editing "
+		                          "needs the original's vertices and faces, some vertices moved, not a remeshed copy. The "
+		                          "mesh was left unchanged.")
+		                      .arg(copy.F.rows())
+		                      .arg(detection.host.F.rows()));
+	Editing e;
+	e.symmetryCount = int(detection.result.symmetries.size());
+	callCore("Consistent editing", [&] {
+		if (report)
+			report(80, "Consistent editing");
+		e.moved = symmetry::carry_edit(detection.host.V, detection.host.F, copy.V, detection.result,
+		                               detection.options.verification_tolerance, symmetry::EditingOptions());
+	});
+	// Editing succeeded: from here on the mesh is written.
+	for (Eigen::Index row = 0; row < copy.V.rows(); ++row)
+		if (e.moved.V.row(row) != copy.V.row(row))
+			copy.vertexOfRow[size_t(row)]->P() =
+				Point3m(Scalarm(e.moved.V(row, 0)), Scalarm(e.moved.V(row, 1)), Scalarm(e.moved.V(row, 2)));
+	vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(edited.cm);
+	vcg::tri::UpdateBounding<CMeshO>::Box(edited.cm);
+	return e;
+}
+
+QString editingLog(const Editing& e)
+{
+	return QString::asprintf(
+		"Carried the edit of %d vertices to %d vertices of their copies under %d symmetries (%d passes along chains "
+		"of copies).",
+		e.moved.edited_vertices, e.moved.carried_vertices, e.symmetryCount, e.moved.passes);
 }
 
 }  // namespace symmetry_host

@@ -10,6 +10,7 @@
 #include "meshlab_api.h"
 
 #include <core/detection.h>
+#include <core/consistent_editing.h>
 #include <core/reduction.h>
 #include <core/symmetrization.h>
 
@@ -21,7 +22,7 @@
 namespace symmetry_host {
 
 /// The filters every adapter offers.
-enum class Filter { Detection, Symmetrization, Reduction };
+enum class Filter { Detection, Symmetrization, Reduction, Editing };
 
 /// What `filter` changes in the document, as MeshLab's data mask (the same in every
 /// release): the adapters' postCondition.
@@ -30,6 +31,11 @@ int changedData(Filter filter);
 /// The parameters of `filter`, in their public order, defaults from the core's options;
 /// `diagonal` is that of the mesh the dialog opens on.  The adapters' parameter list.
 void appendParameters(Filter filter, double diagonal, RichParameterList& parameters);
+
+/// The parameters of `filter` for a dialog opened on the document `md` (its current mesh's
+/// diagonal): appendParameters(), and for consistent editing the mesh parameter
+/// original_mesh, by default another mesh than the current one (the edited).
+void appendParameters(Filter filter, ParameterDocument md, RichParameterList& parameters);
 
 /// The current mesh as the core sees it: non-deleted vertices and faces, compacted.
 struct HostMesh {
@@ -170,5 +176,24 @@ QByteArray instancesJson(const Reduction& r);
 
 /// The log line after a reduction.
 QString reductionLog(const Reduction& r);
+
+/// What consistent editing did to the current (edited) mesh.
+struct Editing {
+	int symmetryCount = 0;          ///< symmetries detected on the original
+	symmetry::EditingResult moved;  ///< vertices the user moved, vertices that received the edit
+};
+
+/// Detects on `original`, then carries the edit (edited - original, same vertices and faces)
+/// to every copy of the edited patch (core/consistent_editing.h), moving the vertices of
+/// `edited`, and updates its normals and bounding box.  `edited` changes only on success
+/// (every failure is an MLException).
+Editing carryEdit(MeshModel& original, MeshModel& edited, const RichParameterList& parameters,
+                  const symmetry::Progress& report);
+
+/// The mesh the parameter original_mesh names.
+MeshModel* originalMesh(MeshDocument& md, const RichParameterList& parameters);
+
+/// The log line after consistent editing.
+QString editingLog(const Editing& e);
 
 }  // namespace symmetry_host

@@ -15,3 +15,10 @@ using RichPercentage = RichAbsPerc;
 #include <common/parameters/rich_parameter_list.h>
 #endif
 #include <common/mlexception.h>
+
+/// The document a parameter list is made for: 2020.09 hands it over mutable, 2025.07 const.
+#ifdef SYMMETRY_MESHLAB_2020_09
+using ParameterDocument = MeshDocument&;
+#else
+using ParameterDocument = const MeshDocument&;
+#endif

@@ -32,7 +32,7 @@ symmetry::Progress progressOf(vcg::CallBackPos* cb)
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING};
 	for (FilterIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -48,6 +48,7 @@ QString FilterSymmetryPlugin::filterName(FilterIDType filter) const
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionName();
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
 	case FP_REDUCTION: return symmetry_texts::reductionName();
+	case FP_EDITING: return symmetry_texts::editingName();
 	default: assert(0); return QString();
 	}
 }
@@ -58,6 +59,7 @@ QString FilterSymmetryPlugin::filterInfo(FilterIDType filter) const
 	case FP_PARTIAL_SYMMETRIES: return symmetry_texts::detectionInfo(false);
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(false);
 	case FP_REDUCTION: return symmetry_texts::reductionInfo(false);
+	case FP_EDITING: return symmetry_texts::editingInfo(false);
 	default: assert(0); return QString();
 	}
 }
@@ -65,7 +67,8 @@ QString FilterSymmetryPlugin::filterInfo(FilterIDType filter) const
 MeshFilterInterface::FilterClass FilterSymmetryPlugin::getClass(QAction* action)
 {
 	switch (ID(action)) {
-	case FP_SYMMETRIZATION: return MeshFilterInterface::Smoothing;
+	case FP_SYMMETRIZATION:
+	case FP_EDITING: return MeshFilterInterface::Smoothing;
 	case FP_REDUCTION: return MeshFilterInterface::Remeshing;
 	default: return MeshFilterInterface::Measure;
 	}
@@ -86,9 +89,9 @@ int FilterSymmetryPlugin::postCondition(QAction* action) const
 	return symmetry_host::changedData(filterOf(action));
 }
 
-void FilterSymmetryPlugin::initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters)
+void FilterSymmetryPlugin::initParameterSet(QAction* action, MeshDocument& md, RichParameterList& parameters)
 {
-	symmetry_host::appendParameters(filterOf(action), m.cm.bbox.Diag(), parameters);
+	symmetry_host::appendParameters(filterOf(action), md, parameters);
 }
 
 symmetry_host::Filter FilterSymmetryPlugin::filterOf(QAction* action) const
@@ -96,6 +99,7 @@ symmetry_host::Filter FilterSymmetryPlugin::filterOf(QAction* action) const
 	switch (ID(action)) {
 	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
 	case FP_REDUCTION: return symmetry_host::Filter::Reduction;
+	case FP_EDITING: return symmetry_host::Filter::Editing;
 	default: return symmetry_host::Filter::Detection;
 	}
 }
@@ -110,6 +114,7 @@ bool FilterSymmetryPlugin::applyFilter(QAction* action, MeshDocument& md, const 
 		case FP_PARTIAL_SYMMETRIES: detectPartialSymmetries(md, parameters, cb); break;
 		case FP_SYMMETRIZATION: symmetrize(md, parameters, cb); break;
 		case FP_REDUCTION: reduce(md, parameters, cb); break;
+		case FP_EDITING: carryEdit(md, parameters, cb); break;
 		default: throw MLException("Unknown filter of the symmetry plugin.");
 		}
 		return true;
@@ -153,4 +158,14 @@ void FilterSymmetryPlugin::reduce(MeshDocument& md, const RichParameterList& par
 		throw MLException("There is no current mesh to reduce.");
 	const symmetry_host::Reduction done = symmetry_host::reduceMesh(md, *input, parameters, progressOf(cb));
 	Log(qUtf8Printable(symmetry_host::reductionLog(done)));
+}
+
+void FilterSymmetryPlugin::carryEdit(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	MeshModel* edited = md.mm();
+	MeshModel* original = symmetry_host::originalMesh(md, parameters);
+	if (edited == nullptr || original == nullptr)
+		throw MLException("Consistent editing needs the edited mesh as the current mesh and the original as original_mesh.");
+	const symmetry_host::Editing done = symmetry_host::carryEdit(*original, *edited, parameters, progressOf(cb));
+	Log(qUtf8Printable(symmetry_host::editingLog(done)));
 }

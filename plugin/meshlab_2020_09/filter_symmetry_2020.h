@@ -18,7 +18,7 @@ class FilterSymmetryPlugin : public QObject, public MeshFilterInterface
 	Q_INTERFACES(MeshFilterInterface)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING };
 
 	FilterSymmetryPlugin();
 
@@ -39,7 +39,8 @@ public:
 	int postCondition(QAction* action) const override;
 	/// The parameters in their public order (the names a filter script uses), defaults
 	/// from symmetry::DetectionOptions.
-	void initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters) override;
+	void initParameterSet(QAction* action, MeshDocument& md, RichParameterList& parameters) override;
+	using MeshFilterInterface::initParameterSet;
 	/// Runs the filter; on failure returns false, with the reason in errorMessage and in
 	/// the log (meshlabserver prints the log, not errorMessage), the document unchanged.
 	bool applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
@@ -49,6 +50,7 @@ private:
 	void detectPartialSymmetries(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 	void symmetrize(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 	void reduce(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+	void carryEdit(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 
 	/// Which of the filters `action` is (host_mesh.h's Filter).
 	symmetry_host::Filter filterOf(QAction* action) const;

@@ -22,6 +22,8 @@ SYMMETRIZATION_FILTER_NAME = "apply_coord_symmetrization"
 #: the third (issue 9): detection, then the faces that are copies of others removed, with the
 #: instances that rebuild them (the paper's Figure 7(c))
 REDUCTION_FILTER_NAME = "generate_symmetry_based_reduction"
+#: the fourth (issue 9): an edit of one copy carried to every copy (the paper's Figure 7(d))
+EDITING_FILTER_NAME = "apply_coord_consistent_editing"
 # MESHLAB_SYMMETRY_PLUGIN loads another build of the plugin instead (make test-sanitize
 # loads the sanitized one).
 _PLUGIN_FILE = (os.environ.get("MESHLAB_SYMMETRY_PLUGIN")
@@ -39,7 +41,7 @@ def _load_plugin():
             f"The symmetry plugin is not built ({_PLUGIN_FILE} is missing). "
             "Run `make` at the top of the meshlab-symmetry repository.")
     pymeshlab.load_plugin(_PLUGIN_FILE)
-    for name in (FILTER_NAME, SYMMETRIZATION_FILTER_NAME, REDUCTION_FILTER_NAME):
+    for name in (FILTER_NAME, SYMMETRIZATION_FILTER_NAME, REDUCTION_FILTER_NAME, EDITING_FILTER_NAME):
         setattr(pymeshlab.MeshSet, name, pymeshlab.bind_function(name))
 
 
@@ -51,11 +53,11 @@ from .result import Symmetry, SymmetryResult  # noqa: E402
 from .api import detect  # noqa: E402
 
 #: the picture functions of meshlab_symmetry.pictures, importable from the package itself
-_PICTURES = ("deviation_picture", "patches_picture", "reduction_picture", "transformation_space_picture",
-             "sample_size_curve", "report_html")
+_PICTURES = ("deviation_picture", "patches_picture", "reduction_picture", "editing_picture",
+             "transformation_space_picture", "sample_size_curve", "report_html")
 
-__all__ = ["FILTER_NAME", "SYMMETRIZATION_FILTER_NAME", "REDUCTION_FILTER_NAME", "plugin_path", "detect_symmetries",
-           "symmetry_graph", "to_json", "detect", "SymmetryResult", "Symmetry", "Plane", "Axis", *_PICTURES]
+__all__ = ["FILTER_NAME", "SYMMETRIZATION_FILTER_NAME", "REDUCTION_FILTER_NAME", "EDITING_FILTER_NAME", "plugin_path",
+           "detect_symmetries", "symmetry_graph", "to_json", "detect", "SymmetryResult", "Symmetry", "Plane", "Axis", *_PICTURES]
 
 
 def __getattr__(name):

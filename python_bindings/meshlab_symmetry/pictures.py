@@ -379,6 +379,29 @@ def reduction_picture(reduced: tuple[np.ndarray, np.ndarray], instances: Sequenc
     return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
 
 
+def editing_picture(original: tuple[np.ndarray, np.ndarray], edited: np.ndarray, path: str, *,
+                    view: tuple[float, float] = (20.0, -60.0), title: Optional[str] = None) -> Picture:
+    """The result of consistent editing (apply_coord_consistent_editing): the mesh with the
+    vertices ``edited`` (rows of the original's), each face coloured by how far its vertices
+    moved from the ``original`` = (vertices, faces), in percent of the diagonal; unmoved faces
+    light grey.  The mesh is drawn as it is (a large one takes a while)."""
+    V, F = (np.asarray(a) for a in original)
+    W = np.asarray(edited)
+    diagonal = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
+    moved = 100 * np.linalg.norm(W - V, axis=1)[F].mean(axis=1) / diagonal
+    colours = ScalarMappable(norm=Normalize(0, max(float(moved.max()), 1e-12)), cmap="viridis")
+    rgb = np.where(moved[:, None] > 0, colours.to_rgba(moved)[:, :3], 0.82)
+    triangles = W[F]
+    fig = _new_figure(title or "Consistent editing: how far each face moved")
+    ax = _mesh_axes(fig, W, view)
+    _add_surface(ax, triangles, np.hstack([_shaded(rgb, triangles, view), np.ones((len(rgb), 1))]))
+    bar = fig.colorbar(colours, cax=fig.add_axes((0.72, 0.2, 0.03, 0.6)))
+    bar.set_label("displacement, % of the bounding-box diagonal")
+    legend = fig.legend(handles=[Patch(color=(0.82, 0.82, 0.82), label="not moved")],
+                        loc="lower left", bbox_to_anchor=(0.69, 0.06), frameon=False)
+    return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
+
+
 # --- c. transformation space: the detector's own Γ (§3) ----------------------------------------------
 
 def detector_transformation_space(mesh: MeshInput, result: SymmetryResult) -> dict[str, np.ndarray]:
