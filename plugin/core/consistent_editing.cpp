@@ -9,7 +9,8 @@
 namespace symmetry {
 namespace {
 
-void check_meshes(const Eigen::MatrixX3d& V_original, const Eigen::MatrixX3d& V_edited, const DetectionResult& detected) {
+void check_meshes(const Eigen::MatrixX3d& V_original, const Eigen::MatrixX3d& V_edited,
+                  const DetectionResult& detected) {
     if (V_edited.rows() != V_original.rows())
         throw InputError("The edited mesh has " + std::to_string(V_edited.rows()) + " vertices and the original " +
                          std::to_string(V_original.rows()) +

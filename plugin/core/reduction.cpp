@@ -72,9 +72,9 @@ Transformation composed(const DetectionResult& detected, const std::vector<int>&
     return t;
 }
 
-// Follows one point of a target face of the letter's symmetry back to a kept face: T⁻¹, then, while
-// it lands on a removed face, that face's instance inverted.  Returns false where it leaves
-// the surface or the chain grows too long.
+// Follows one point of a face the letter's transformation T maps onto back to a kept face:
+// T⁻¹, then, while it lands on a removed face, that face's instance inverted.  Returns false
+// where it leaves the surface or the chain grows too long.
 bool trace_point(const Eigen::Vector3d& p, int letter, const DetectionResult& detected, const ReductionState& r,
                  const Surface& surface, double max_distance, int max_chain, std::vector<int>& word, int& face) {
     const Transformation T = letter_transform(detected, letter);
@@ -93,9 +93,9 @@ bool trace_point(const Eigen::Vector3d& p, int letter, const DetectionResult& de
     }
 }
 
-// Face f, of the patch the letter's transformation maps onto, traced back, or nothing when it is no copy: a point
-// leaves the surface, comes back to f itself, or comes back by a word that maps it onto
-// itself (a point on a mirror's plane, or a mirror applied twice).
+// Face f, of the patch the letter's transformation maps onto, traced back, or nothing when
+// it is no copy: a point leaves the surface, comes back to f itself, or comes back by a word
+// that maps it onto itself (a point on a mirror's plane, or a mirror applied twice).
 std::optional<Trace> trace_face(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int f, int letter,
                                 const DetectionResult& detected, const ReductionState& r, const Surface& surface,
                                 double max_distance, int max_chain) {
@@ -285,7 +285,8 @@ ReductionResult reduce_by_symmetry(const Eigen::MatrixX3d& V, const Eigen::Matri
         const DetectedSymmetry& s = detected.symmetries[k];
         if (s.continuous_kind != ContinuousKind::Discrete) continue;
         for (const int letter : {int(k) + 1, -int(k) - 1}) {
-            const std::vector<int> faces = faces_of_patch(F, letter > 0 ? s.target_vertices : s.source_vertices, V.rows());
+            const std::vector<int>& patch = letter > 0 ? s.target_vertices : s.source_vertices;
+            const std::vector<int> faces = faces_of_patch(F, patch, V.rows());
             const Transformation T = letter_transform(detected, letter);
             for (int f : orbit_order(V, F, faces, T, options.min_rotation_angle)) {
                 if (r.state[size_t(f)] != FaceState::Free) continue;
