@@ -54,7 +54,6 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
     }
     if (kept.empty())
         throw InputError("Every face of the mesh is degenerate (zero area); there is no surface to analyse.");
-    done.face_of_input = kept;
 
     std::vector<int> new_index(V.rows(), -1);
     std::vector<char> referenced(V.rows(), 0);
@@ -79,6 +78,7 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
         for (int k = 0; k < 3; ++k) fi->V(k) = &mesh.vert[new_index[same[F(f, k)]]];
         ++fi;
     }
+    done.face_of_input = std::move(kept);  // only the uses of a result read it; no copy
     vcg::tri::UpdateBounding<Mesh>::Box(mesh);
     if (!(mesh.bbox.Diag() > 0))
         throw InputError("All vertices of the mesh are at the same position.");
