@@ -119,6 +119,17 @@ int group_dimension(TransformationGroup group) {
     return 6;
 }
 
+// A pair's points in Γ (§2.2): the transformations of `group` that map the one frame onto
+// the other, without the mirrored ones where options ask for motions only (two poses).
+std::vector<Transformation> points_of_pair(const SurfaceSignature& a, const SurfaceSignature& b,
+                                           TransformationGroup group, const PairingOptions& options) {
+    std::vector<Transformation> points = transformations_from_frames(a, b, group);
+    if (options.proper_only)
+        points.erase(std::remove_if(points.begin(), points.end(), [](const Transformation& t) { return t.reflection; }),
+                     points.end());
+    return points;
+}
+
 // The Appendix's n' for `group` (μ measured by pairing a pilot subset with a generator of
 // its own, so the main sequence is the same whatever the pilot drew), lowered to keep μ n'
 // within max_transformation_points.
@@ -138,7 +149,7 @@ AutomaticSampleCount automatic_sample_count(const std::vector<SurfaceSignature>&
                                                                pilot, 2 * radius, pilot_rng, options.pairing);
     size_t points = 0;
     for (const SignaturePair& pair : pairs)
-        points += transformations_from_frames(P[size_t(pair.first)], P[size_t(pair.second)], group).size();
+        points += points_of_pair(P[size_t(pair.first)], P[size_t(pair.second)], group, options.pairing).size();
     AutomaticSampleCount count;
     count.mu = std::max(1.0, double(points) / std::max(1, pilot));
     count.bound = appendix_sample_size(n, std::max(options.min_patch_area, 1e-4), count.mu, group_dimension(group),
@@ -208,7 +219,7 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
                                           2 * radius, rng, options.pairing);
     for (size_t k = 0; k < votes.pairs.size(); ++k)
         for (const Transformation& t :
-             transformations_from_frames(votes.P[votes.pairs[k].first], votes.P[votes.pairs[k].second], options.group)) {
+             points_of_pair(votes.P[votes.pairs[k].first], votes.P[votes.pairs[k].second], options.group, options.pairing)) {
             votes.points.push_back(t);
             votes.pair_of_point.push_back(int(k));
         }

@@ -40,6 +40,14 @@ Eigen::VectorXd ranking_signature(const SurfaceSignature& s, TransformationGroup
     return sigma;
 }
 
+bool may_be_drawn(const Eigen::Vector3d& position, const PairingOptions& options) {
+    return !options.first_pose_below_x || position.x() < *options.first_pose_below_x;
+}
+
+bool may_be_partner(const Eigen::Vector3d& position, const PairingOptions& options) {
+    return !options.first_pose_below_x || position.x() >= *options.first_pose_below_x;
+}
+
 std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
                                                    TransformationGroup group, double radius, double tolerance,
                                                    int subset_size, double min_distance, std::mt19937_64& rng,
@@ -54,12 +62,16 @@ std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSign
     KdTree tree(std::move(omega));
 
     // P' ⊂ P drawn without replacement (partial Fisher-Yates, own draws so the result does
-    // not depend on the standard library's distributions).
-    std::vector<int> order(n);
-    std::iota(order.begin(), order.end(), 0);
-    const int m = std::min(subset_size, n);
+    // not depend on the standard library's distributions), from the samples that may be
+    // drawn (all of them, unless two poses are paired).
+    std::vector<int> order;
+    order.reserve(size_t(n));
+    for (int i = 0; i < n; ++i)
+        if (may_be_drawn(samples[size_t(i)].position, options)) order.push_back(i);
+    const int drawable = int(order.size());
+    const int m = std::min(subset_size, drawable);
     for (int k = 0; k < m; ++k) {
-        int j = k + int(rng() % uint64_t(n - k));
+        int j = k + int(rng() % uint64_t(drawable - k));
         std::swap(order[k], order[j]);
     }
     std::sort(order.begin(), order.begin() + m);
@@ -72,7 +84,7 @@ std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSign
         const int i = order[k];
         std::vector<std::pair<double, int>> partners;
         for (int j : tree.radius_search(tree.points().row(i).data(), tolerance)) {
-            if (j == i) continue;
+            if (j == i || !may_be_partner(samples[j].position, options)) continue;
             if ((samples[j].position - samples[i].position).squaredNorm() < min_distance2) continue;
             partners.push_back({(ranking[size_t(j)] - ranking[size_t(i)]).squaredNorm(), j});
         }

@@ -5,6 +5,7 @@
 #include "signatures.h"
 #include "transformation_space.h"
 
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -32,7 +33,20 @@ struct PairingOptions {
     /// where the range query in Ω ties, the partners whose shape also agrees over a twice
     /// larger ball are kept: a true partner does, a chance one seldom.
     int max_partners = 32;
+    /// Pairing between two poses (rigid_segmentation.h, the paper's Figure 8): when set,
+    /// the mesh holds two poses side by side, the first where x is below this value (absolute
+    /// units).  P' is then drawn from the first pose only and its partners come from the
+    /// second only: "pairs that contain one sample from either pose".
+    std::optional<double> first_pose_below_x;
+    /// Vote only for rotations and translations, not for their mirrored counterparts: between
+    /// two poses a part moves, it is not mirrored.
+    bool proper_only = false;
 };
+
+/// Whether `position` is on the side of P' (every sample, unless options pair two poses).
+bool may_be_drawn(const Eigen::Vector3d& position, const PairingOptions& options);
+/// Whether `position` may be a partner (every sample, unless options pair two poses).
+bool may_be_partner(const Eigen::Vector3d& position, const PairingOptions& options);
 
 /// The signature partners are ranked by: σ at the radius r and at 2r, each made
 /// dimensionless by its own radius (for Similarity: the shape index at both radii).
@@ -43,7 +57,8 @@ Eigen::VectorXd ranking_signature(const SurfaceSignature& s, TransformationGroup
 /// by ranking_signature),
 /// excluding the sample itself and partners closer than `min_distance` in space (such
 /// pairs see the same patch and vote for near-identity transformations that carry no
-/// symmetry).  Deterministic for a given rng state.
+/// symmetry).  Between two poses (options.first_pose_below_x) P' is drawn from the first
+/// pose and the partners from the second.  Deterministic for a given rng state.
 std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
                                                    TransformationGroup group, double radius, double tolerance,
                                                    int subset_size, double min_distance, std::mt19937_64& rng,

@@ -104,7 +104,7 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING, FP_SEGMENTATION};
 	for (ActionIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -121,6 +121,7 @@ QString FilterSymmetryPlugin::filterName(ActionIDType filter) const
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
 	case FP_REDUCTION: return symmetry_texts::reductionName();
 	case FP_EDITING: return symmetry_texts::editingName();
+	case FP_SEGMENTATION: return symmetry_texts::segmentationName();
 	default: assert(0); return QString();
 	}
 }
@@ -132,6 +133,7 @@ QString FilterSymmetryPlugin::pythonFilterName(ActionIDType filter) const
 	case FP_SYMMETRIZATION: return "apply_coord_symmetrization";
 	case FP_REDUCTION: return "generate_symmetry_based_reduction";
 	case FP_EDITING: return "apply_coord_consistent_editing";
+	case FP_SEGMENTATION: return "compute_rigid_segments_between_meshes";
 	default: assert(0); return QString();
 	}
 }
@@ -143,6 +145,7 @@ QString FilterSymmetryPlugin::filterInfo(ActionIDType filter) const
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(true);
 	case FP_REDUCTION: return symmetry_texts::reductionInfo(true);
 	case FP_EDITING: return symmetry_texts::editingInfo(true);
+	case FP_SEGMENTATION: return symmetry_texts::segmentationInfo(true);
 	default: assert(0); return QString();
 	}
 }
@@ -157,9 +160,9 @@ FilterPlugin::FilterClass FilterSymmetryPlugin::getClass(const QAction* action) 
 	}
 }
 
-FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction*) const
+FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction* action) const
 {
-	return SINGLE_MESH;
+	return ID(action) == FP_SEGMENTATION ? FIXED : SINGLE_MESH;
 }
 
 int FilterSymmetryPlugin::getPreConditions(const QAction*) const
@@ -189,6 +192,7 @@ symmetry_host::Filter FilterSymmetryPlugin::filterOf(const QAction* action) cons
 	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
 	case FP_REDUCTION: return symmetry_host::Filter::Reduction;
 	case FP_EDITING: return symmetry_host::Filter::Editing;
+	case FP_SEGMENTATION: return symmetry_host::Filter::Segmentation;
 	default: wrongActionCalled(action);
 	}
 	return symmetry_host::Filter::Detection;
@@ -203,6 +207,7 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::applyFilter(
 	case FP_SYMMETRIZATION: return symmetrize(md, parameters, cb);
 	case FP_REDUCTION: return reduce(md, parameters, cb);
 	case FP_EDITING: return carryEdit(md, parameters, cb);
+	case FP_SEGMENTATION: return segment(md, parameters, cb);
 	default: wrongActionCalled(action);
 	}
 	return {};
@@ -288,6 +293,39 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::carryEdit(
 	out["edited_vertices"] = QVariant(done.moved.edited_vertices);
 	out["carried_vertices"] = QVariant(done.moved.carried_vertices);
 	out["passes"] = QVariant(done.moved.passes);
+	return out;
+}
+
+std::map<std::string, QVariant> FilterSymmetryPlugin::segment(
+	MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	const symmetry_host::Segmentation done = symmetry_host::segmentPoses(md, parameters, progressOf(cb));
+	for (const QString& line : symmetry_host::segmentationLog(done))
+		log(line.toStdString());
+	std::vector<double> transforms, firstCounts, secondCounts, errors, layerIds;
+	double firstLabelled = 0, secondLabelled = 0;
+	for (const symmetry::RigidSegment& segment : done.found.segments) {
+		const Eigen::Matrix4d m = segment.transform.matrix();
+		for (int i = 0; i < 4; ++i)
+			for (int j = 0; j < 4; ++j)
+				transforms.push_back(m(i, j));
+		firstCounts.push_back(double(segment.first_vertices.size()));
+		secondCounts.push_back(double(segment.second_vertices.size()));
+		errors.push_back(segment.rms_error);
+		firstLabelled += double(segment.first_vertices.size());
+		secondLabelled += double(segment.second_vertices.size());
+	}
+	for (int id : done.layerIds)
+		layerIds.push_back(double(id));
+	std::map<std::string, QVariant> out;
+	out["segment_count"] = QVariant(int(done.found.segments.size()));
+	out["segment_transforms"] = vector(transforms);
+	out["segment_first_vertex_counts"] = vector(firstCounts);
+	out["segment_second_vertex_counts"] = vector(secondCounts);
+	out["segment_rms_errors"] = vector(errors);
+	out["first_labelled_share"] = QVariant(firstLabelled / std::max(1, done.firstRows));
+	out["second_labelled_share"] = QVariant(secondLabelled / std::max(1, done.secondRows));
+	out["segment_layer_ids"] = vector(layerIds);
 	return out;
 }
 

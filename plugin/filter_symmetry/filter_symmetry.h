@@ -18,22 +18,24 @@ class FilterSymmetryPlugin : public QObject, public FilterPlugin
 	Q_INTERFACES(FilterPlugin)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING, FP_SEGMENTATION };
 
 	FilterSymmetryPlugin();
 
 	/// "FilterSymmetry".
 	QString pluginName() const override;
 	/// The menu entries, "Detect Partial and Approximate Symmetries", "Symmetrize
-	/// Approximate Symmetries", "Symmetry-Based Reduction" and "Carry an Edit to Symmetric Copies".
+	/// Approximate Symmetries", "Symmetry-Based Reduction", "Carry an Edit to Symmetric Copies" and
+	/// "Segment Rigid Parts Between Two Poses".
 	QString filterName(ActionIDType filter) const override;
 	/// compute_partial_symmetries, apply_coord_symmetrization, generate_symmetry_based_reduction,
-	/// apply_coord_consistent_editing: public API, never rename.
+	/// apply_coord_consistent_editing, compute_rigid_segments_between_meshes: public API, never rename.
 	QString pythonFilterName(ActionIDType filter) const override;
 	/// Paper reference and the meaning of every output.
 	QString filterInfo(ActionIDType filter) const override;
 	FilterClass getClass(const QAction* action) const override;
-	/// SINGLE_MESH: the current mesh is the input.
+	/// SINGLE_MESH: the current mesh is the input; FIXED for segmentation, whose two meshes are
+	/// parameters.
 	FilterArity filterArity(const QAction* action) const override;
 	/// None: the core itself refuses what it cannot analyse, saying what to do (a point cloud).
 	int getPreConditions(const QAction* action) const override;
@@ -70,6 +72,10 @@ private:
 
 	/// Carries an edit of the current mesh to the copies of the edited part (core/consistent_editing.h).
 	std::map<std::string, QVariant> carryEdit(
+		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+
+	/// Labels the rigid parts between first_mesh and second_mesh (core/rigid_segmentation.h).
+	std::map<std::string, QVariant> segment(
 		MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 
 	/// Which of the filters `action` is (host_mesh.h's Filter).

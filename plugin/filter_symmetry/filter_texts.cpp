@@ -133,6 +133,28 @@ QString editingReturnedValues()
 	       "(vertices you moved), carried_vertices (vertices that received the edit), passes.<br>";
 }
 
+QString segmentationIntro()
+{
+	return "Finds the parts of a shape that moved rigidly between two poses (Figure 8 of the paper): samples of "
+	       "<i>First pose</i> are paired only with samples of <i>Second pose</i> whose curvatures agree, each pair "
+	       "votes for the rotation and translation between them, and every cluster of votes that region growing "
+	       "verifies is a rigid part. Both meshes get a colour per part (grey where no part holds, e.g. around "
+	       "bending joints) and the per-vertex attribute <i>segment_id</i> (-1 where none). The parameters are those "
+	       "of <i>Detect Partial and Approximate Symmetries</i>, with lengths in percent of the first pose's "
+	       "diagonal and areas in percent of its area; the group is always rotations and translations.<br>"
+	       "<i>Layers segment_k_first and segment_k_second</i> (if <i>Create segment layers</i> is on): part k in "
+	       "either pose.<br>";
+}
+
+QString segmentationReturnedValues()
+{
+	return "<i>Returned values</i>: segment_count, segment_transforms (16 numbers per segment, row-major 4x4, "
+	       "mapping the part in the first pose onto the second), segment_first_vertex_counts and "
+	       "segment_second_vertex_counts, segment_rms_errors (fraction of the first pose's diagonal), "
+	       "first_labelled_share and second_labelled_share (fraction of each mesh's vertices in some part), "
+	       "segment_layer_ids (two per segment, -1 without layers).<br>";
+}
+
 }  // namespace
 
 QString detectionName()
@@ -153,6 +175,11 @@ QString reductionName()
 QString editingName()
 {
 	return "Carry an Edit to Symmetric Copies";
+}
+
+QString segmentationName()
+{
+	return "Segment Rigid Parts Between Two Poses";
 }
 
 QString detectionInfo(bool returnsValues)
@@ -177,6 +204,14 @@ QString editingInfo(bool returnsValues)
 	       "Consistent editing is one of the uses of the symmetry graph in: <i>Niloy J. Mitra, Leonidas J. Guibas, "
 	       "Mark Pauly</i>, <b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b>, SIGGRAPH 2006, "
 	       "Section 5 and Figure 7(d).";
+}
+
+QString segmentationInfo(bool returnsValues)
+{
+	return segmentationIntro() + (returnsValues ? segmentationReturnedValues() : QString()) +
+	       "Rigid segmentation between two poses is one of the uses in: <i>Niloy J. Mitra, Leonidas J. Guibas, Mark "
+	       "Pauly</i>, <b>\"Partial and Approximate Symmetry Detection for 3D Geometry\"</b>, SIGGRAPH 2006, "
+	       "Section 5 and Figure 8.";
 }
 
 }  // namespace symmetry_texts

@@ -15,6 +15,8 @@ QString symmetrizationName();
 QString reductionName();
 /// "Carry an Edit to Symmetric Copies".
 QString editingName();
+/// "Segment Rigid Parts Between Two Poses".
+QString segmentationName();
 
 /// The help text shown above the parameters: what the filter does, its outputs on the
 /// mesh, the paper.  `returnsValues`: the host returns values to the caller (MeshLab
@@ -23,5 +25,6 @@ QString detectionInfo(bool returnsValues);
 QString symmetrizationInfo(bool returnsValues);
 QString reductionInfo(bool returnsValues);
 QString editingInfo(bool returnsValues);
+QString segmentationInfo(bool returnsValues);
 
 }  // namespace symmetry_texts

@@ -94,6 +94,8 @@ int changedData(Filter filter)
 	// keep the GUI from offering a preview.
 	if (filter == Filter::Reduction)
 		return MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
+	if (filter == Filter::Segmentation)
+		return MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTNUMBER | MeshModel::MM_FACENUMBER;
 	// Detection also adds the patch layers, meshes of their own: saying so (vertex and face
 	// numbers) keeps the GUI from offering a preview, which would run the detection again
 	// and add another set of layers at every change of a parameter.
@@ -106,6 +108,12 @@ void appendParameters(Filter filter, double diagonal, RichParameterList& paramet
 		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, true, parameters);
 		return;
 	}
+	if (filter == Filter::Segmentation) {
+		symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters,
+		                                         false);
+		symmetry_parameters::appendSegmentationParameters(parameters);
+		return;
+	}
 	symmetry_parameters::toRichParameterList(symmetry::DetectionOptions(), diagonal, std::nullopt, parameters);
 	if (filter == Filter::Symmetrization)
 		symmetry_parameters::appendSymmetrizationParameters(symmetry::SymmetrizationOptions(), parameters);
@@ -113,35 +121,64 @@ void appendParameters(Filter filter, double diagonal, RichParameterList& paramet
 		symmetry_parameters::appendReductionParameters(parameters);
 }
 
+namespace {
+
+// The first mesh of the document other than `mesh`, or `mesh` if it is alone: the default
+// of a second mesh parameter, as a boolean's second operand.
+const MeshModel* anotherMesh(ParameterDocument md, const MeshModel* mesh)
+{
+#ifdef SYMMETRY_MESHLAB_2020_09
+	for (const MeshModel* m : md.meshList)
+		if (m != mesh)
+			return m;
+#else
+	for (const MeshModel& m : md.meshIterator())
+		if (&m != mesh)
+			return &m;
+#endif
+	return mesh;
+}
+
+void addMeshParameter(ParameterDocument md, const MeshModel* mesh, const QString& name, const QString& label,
+                      const QString& help, RichParameterList& parameters)
+{
+#ifdef SYMMETRY_MESHLAB_2020_09
+	parameters.addParam(RichMesh(name, const_cast<MeshModel*>(mesh), &md, label, help));
+#else
+	parameters.addParam(RichMesh(name, mesh != nullptr ? mesh->id() : 0, &md, label, help));
+#endif
+}
+
+// The mesh a mesh parameter names.
+MeshModel* meshParameter(MeshDocument& md, const RichParameterList& parameters, const QString& name)
+{
+#ifdef SYMMETRY_MESHLAB_2020_09
+	return parameters.getMesh(name);
+#else
+	return md.getMesh(parameters.getMeshId(name));
+#endif
+}
+
+}  // namespace
+
 void appendParameters(Filter filter, ParameterDocument md, RichParameterList& parameters)
 {
 	const MeshModel* current = md.mm();
-	appendParameters(filter, current != nullptr ? double(current->cm.bbox.Diag()) : 0.0, parameters);
-	if (filter != Filter::Editing)
-		return;
-	// The original is another mesh than the edited (current) one, as a boolean's second operand.
-	const MeshModel* original = current;
-#ifdef SYMMETRY_MESHLAB_2020_09
-	for (const MeshModel* m : md.meshList)
-		if (m != current) {
-			original = m;
-			break;
-		}
-#else
-	for (const MeshModel& m : md.meshIterator())
-		if (&m != current) {
-			original = &m;
-			break;
-		}
-#endif
-	const QString name = "original_mesh", label = "Original mesh";
-	const QString help = "The mesh before the edit (the symmetries are detected on it): the current mesh is its "
-	                     "edited copy, with the same vertices and faces, some of them moved.";
-#ifdef SYMMETRY_MESHLAB_2020_09
-	parameters.addParam(RichMesh(name, const_cast<MeshModel*>(original), &md, label, help));
-#else
-	parameters.addParam(RichMesh(name, original != nullptr ? original->id() : 0, &md, label, help));
-#endif
+	const double diagonal = current != nullptr ? double(current->cm.bbox.Diag()) : 0.0;
+	if (filter == Filter::Segmentation) {
+		addMeshParameter(md, current, "first_mesh", "First pose",
+		                 "The shape in one pose. Lengths below are in its units (percentages of its diagonal).",
+		                 parameters);
+		addMeshParameter(md, anotherMesh(md, current), "second_mesh", "Second pose",
+		                 "The same shape in another pose: its parts moved rigidly, tessellated alike or not.",
+		                 parameters);
+	}
+	appendParameters(filter, diagonal, parameters);
+	if (filter == Filter::Editing)
+		addMeshParameter(md, anotherMesh(md, current), "original_mesh", "Original mesh",
+		                 "The mesh before the edit (the symmetries are detected on it): the current mesh is its "
+		                 "edited copy, with the same vertices and faces, some of them moved.",
+		                 parameters);
 }
 
 HostMesh copyMesh(CMeshO& m)
@@ -607,11 +644,7 @@ QString reductionLog(const Reduction& r)
 
 MeshModel* originalMesh(MeshDocument& md, const RichParameterList& parameters)
 {
-#ifdef SYMMETRY_MESHLAB_2020_09
-	return parameters.getMesh("original_mesh");
-#else
-	return md.getMesh(parameters.getMeshId("original_mesh"));
-#endif
+	return meshParameter(md, parameters, "original_mesh");
 }
 
 Editing carryEdit(MeshModel& original, MeshModel& edited, const RichParameterList& parameters,
@@ -653,6 +686,114 @@ QString editingLog(const Editing& e)
 		"Carried the edit of %d vertices to %d vertices of their copies under %d symmetries (%d passes along chains "
 		"of copies).",
 		e.moved.edited_vertices, e.moved.carried_vertices, e.symmetryCount, e.moved.passes);
+}
+
+namespace {
+
+// Per-vertex Scalarm attribute `segment_id` (replacing one left by an earlier run) and a
+// colour per segment, grey where none holds.  Deleted vertices get -1.
+void writeSegmentIds(MeshModel& mm, const HostMesh& h, const std::vector<int>& segmentOfRow, int segments)
+{
+	const char* const name = "segment_id";
+	CMeshO& m = mm.cm;
+	mm.updateDataMask(MeshModel::MM_VERTCOLOR);
+	if (vcg::tri::HasPerVertexAttribute(m, name))
+		vcg::tri::Allocator<CMeshO>::DeletePerVertexAttribute(m, name);
+	auto id = vcg::tri::Allocator<CMeshO>::AddPerVertexAttribute<Scalarm>(m, name);
+	for (CVertexO& v : m.vert)
+		id[v] = Scalarm(-1);
+	for (size_t row = 0; row < h.vertexOfRow.size(); ++row) {
+		CVertexO& v = *h.vertexOfRow[row];
+		const int k = segmentOfRow[row];
+		id[v] = Scalarm(k);
+		v.C() = k < 0 ? vcg::Color4b(vcg::Color4b::Gray) : vcg::Color4b::Scatter(std::max(segments, 2), k);
+	}
+}
+
+}  // namespace
+
+Segmentation segmentPoses(MeshDocument& md, const RichParameterList& parameters, const symmetry::Progress& report)
+{
+	MeshModel* firstPose = meshParameter(md, parameters, "first_mesh");
+	MeshModel* secondPose = meshParameter(md, parameters, "second_mesh");
+	if (firstPose == nullptr || secondPose == nullptr)
+		throw MLException("Rigid segmentation needs two meshes of the document: first_mesh and second_mesh.");
+	MeshModel& first = *firstPose;
+	MeshModel& second = *secondPose;
+	if (&first == &second)
+		throw MLException("Rigid segmentation needs two poses, but first_mesh and second_mesh name the same mesh. "
+		                  "Load the shape in its second pose and choose it as second_mesh.");
+	Segmentation s;
+	HostMesh firstHost, secondHost;
+	callCore("Rigid segmentation", [&] {
+		// The host turned the percentages into lengths with the first pose's diagonal.
+		const double diagonal = first.cm.bbox.IsNull() ? 0.0 : double(first.cm.bbox.Diag());
+		const symmetry::DetectionOptions options = symmetry_parameters::fromRichParameterList(parameters, diagonal);
+		firstHost = copyMesh(first.cm);
+		secondHost = copyMesh(second.cm);
+		s.found = symmetry::segment_rigid_parts(firstHost.V, firstHost.F, secondHost.V, secondHost.F, options,
+		                                        symmetry::SegmentationOptions(), report);
+	});
+	if (s.found.first_segment_id.size() != size_t(firstHost.V.rows()) ||
+	    s.found.second_segment_id.size() != size_t(secondHost.V.rows()))
+		throw MLException("Rigid segmentation failed because of an internal error (its labels do not fit the "
+		                  "meshes). The meshes were left unchanged; please report this with the meshes.");
+	s.firstRows = int(firstHost.V.rows());
+	s.diagonal = first.cm.bbox.IsNull() ? 1.0 : double(first.cm.bbox.Diag());
+	s.secondRows = int(secondHost.V.rows());
+	// Segmentation succeeded: from here on the document is written.
+	const int segments = int(s.found.segments.size());
+	writeSegmentIds(first, firstHost, s.found.first_segment_id, segments);
+	writeSegmentIds(second, secondHost, s.found.second_segment_id, segments);
+	s.layerIds.assign(size_t(2 * segments), -1);
+	if (symmetry_parameters::createSegmentLayers(parameters)) {
+		try {
+			for (int k = 0; k < segments; ++k) {
+				const symmetry::RigidSegment& segment = s.found.segments[size_t(k)];
+				const QString name = QString("segment_%1_").arg(k);
+				s.layerIds[size_t(2 * k)] = int(addPatchLayer(md, firstHost, segment.first_vertices, name + "first")->id());
+				s.layerIds[size_t(2 * k + 1)] =
+					int(addPatchLayer(md, secondHost, segment.second_vertices, name + "second")->id());
+			}
+		}
+		catch (const std::bad_alloc&) {
+			throw MLException("Rigid segmentation ran out of memory while adding its layers.");
+		}
+	}
+	return s;
+}
+
+QStringList segmentationLog(const Segmentation& s)
+{
+	QStringList lines;
+	int firstLabelled = 0, secondLabelled = 0;
+	for (size_t k = 0; k < s.found.segments.size(); ++k) {
+		const symmetry::RigidSegment& segment = s.found.segments[k];
+		firstLabelled += int(segment.first_vertices.size());
+		secondLabelled += int(segment.second_vertices.size());
+		symmetry::DetectedSymmetry motion;
+		motion.transform = segment.transform;
+		lines << QString("Segment %1: %2 vertices of the first pose, %3 of the second, moved by a %4%5; RMS deviation "
+		                 "%6% of the diagonal.")
+		             .arg(k)
+		             .arg(segment.first_vertices.size())
+		             .arg(segment.second_vertices.size())
+		             .arg(kindLabel(motion, s.diagonal))
+		             .arg(transformText(motion))
+		             .arg(100 * segment.rms_error, 0, 'g', 3);
+	}
+	const symmetry::DetectionResult& d = s.found.detection;
+	lines << QString("Rigid segmentation: %1 segments; %2% of the first pose's vertices and %3% of the second's "
+	                 "labelled (%4 samples, %5 pairs between the poses, %6 clusters verified; %7 s).")
+	             .arg(s.found.segments.size())
+	             .arg(100.0 * firstLabelled / std::max(1, s.firstRows), 0, 'f', 1)
+	             .arg(100.0 * secondLabelled / std::max(1, s.secondRows), 0, 'f', 1)
+	             .arg(d.samples)
+	             .arg(d.pairs)
+	             .arg(d.verified_candidates)
+	             .arg(d.seconds_signatures + d.seconds_pairing + d.seconds_clustering + d.seconds_verification, 0, 'f',
+	                  1);
+	return lines;
 }
 
 }  // namespace symmetry_host

@@ -12,6 +12,7 @@
 #include <core/detection.h>
 #include <core/consistent_editing.h>
 #include <core/reduction.h>
+#include <core/rigid_segmentation.h>
 #include <core/symmetrization.h>
 
 #include <Eigen/Core>
@@ -22,7 +23,7 @@
 namespace symmetry_host {
 
 /// The filters every adapter offers.
-enum class Filter { Detection, Symmetrization, Reduction, Editing };
+enum class Filter { Detection, Symmetrization, Reduction, Editing, Segmentation };
 
 /// What `filter` changes in the document, as MeshLab's data mask (the same in every
 /// release): the adapters' postCondition.
@@ -34,7 +35,9 @@ void appendParameters(Filter filter, double diagonal, RichParameterList& paramet
 
 /// The parameters of `filter` for a dialog opened on the document `md` (its current mesh's
 /// diagonal): appendParameters(), and for consistent editing the mesh parameter
-/// original_mesh, by default another mesh than the current one (the edited).
+/// original_mesh, by default another mesh than the current one (the edited).  Rigid
+/// segmentation takes first_mesh (by default the current one) and second_mesh (another),
+/// then the detection parameters but the group and the basis reduction's.
 void appendParameters(Filter filter, ParameterDocument md, RichParameterList& parameters);
 
 /// The current mesh as the core sees it: non-deleted vertices and faces, compacted.
@@ -195,5 +198,22 @@ MeshModel* originalMesh(MeshDocument& md, const RichParameterList& parameters);
 
 /// The log line after consistent editing.
 QString editingLog(const Editing& e);
+
+/// What rigid segmentation between two poses found and wrote.
+struct Segmentation {
+	symmetry::SegmentationResult found;  ///< the segments, per-vertex labels of both poses
+	std::vector<int> layerIds;           ///< two per segment (first pose, second pose), -1 without layers
+	int firstRows = 0, secondRows = 0;   ///< vertices of either pose the core saw
+	double diagonal = 1;                 ///< the first pose's: the unit of the log's lengths
+};
+
+/// Segments the rigid parts between the meshes first_mesh and second_mesh name
+/// (core/rigid_segmentation.h), then colours the vertices of both by segment (grey where
+/// none holds), writes their per-vertex attribute `segment_id` and, if asked, the layers
+/// segment_k_first and segment_k_second.  Nothing is written on failure (an MLException).
+Segmentation segmentPoses(MeshDocument& md, const RichParameterList& parameters, const symmetry::Progress& report);
+
+/// The log lines after a segmentation: one per segment, then a summary.
+QStringList segmentationLog(const Segmentation& s);
 
 }  // namespace symmetry_host

@@ -22,14 +22,9 @@ bool usableDiagonal(double diagonal)
 	return std::isfinite(diagonal) && diagonal > 0;
 }
 
-}  // namespace
-
-void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, std::optional<bool> createPatchLayers,
-                         RichParameterList& parameters)
+// The transformation group (§2).
+void appendGroupParameter(const symmetry::DetectionOptions& o, RichParameterList& parameters)
 {
-	// A dialog opened on an empty mesh still needs a scale for its percentages.
-	const double d = usableDiagonal(diagonal) ? diagonal : 1.0;
-
 	parameters.addParam(RichEnum(
 		"transformation_group", int(o.group), groupNames(), "Transformation group",
 		"The symmetries looked for (§2 of the paper). Rigid (the default, when you do not know what to "
@@ -40,6 +35,34 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, s
 		"the rigid group finds, usually in less time, and nothing else (a mirrored copy set down in another "
 		"orientation is a mirror composed with a turn: rigid group only). Translations only: parts repeated "
 		"in the same orientation, e.g. the windows of a facade or the teeth of a rack."));
+}
+
+// Algorithm 1's switches (§4.1); `d` is the diagonal the percentages stand for.
+void appendBasisParameters(const symmetry::DetectionOptions& o, double d, RichParameterList& parameters)
+{
+	parameters.addParam(RichBool(
+		"reduce_basis", o.reduce_basis, "Reduce to generators",
+		"Run the symmetry basis reduction of §4.1 (Algorithm 1): write compound symmetries as words in a "
+		"few generating transformations."));
+	parameters.addParam(RichInt(
+		"basis_loop_length", o.basis_loop_length, "Basis word length",
+		"The paper's eta (Algorithm 1): longest product of generators tried when expressing a symmetry."));
+	parameters.addParam(RichPercentage(
+		"basis_tolerance", o.basis_tolerance * d, 0, d, "Basis tolerance",
+		"The paper's delta (Algorithm 1): a symmetry within this distance of a product of generators, in "
+		"transformation space, is a compound of them rather than a new generator."));
+}
+
+}  // namespace
+
+void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, std::optional<bool> createPatchLayers,
+                         RichParameterList& parameters, bool groupAndBasis)
+{
+	// A dialog opened on an empty mesh still needs a scale for its percentages.
+	const double d = usableDiagonal(diagonal) ? diagonal : 1.0;
+
+	if (groupAndBasis)
+		appendGroupParameter(o, parameters);
 	parameters.addParam(RichInt(
 		"sample_count", o.sample_count, "Surface samples",
 		"Number of points sampled uniformly on the surface before umbilic pruning (§5). More samples find "
@@ -91,17 +114,8 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, s
 	parameters.addParam(RichBool(
 		"refine_with_icp", o.refine_with_icp, "Refine with ICP",
 		"Refine each transformation with iterative closest points while its patch grows (§4)."));
-	parameters.addParam(RichBool(
-		"reduce_basis", o.reduce_basis, "Reduce to generators",
-		"Run the symmetry basis reduction of §4.1 (Algorithm 1): write compound symmetries as words in a "
-		"few generating transformations."));
-	parameters.addParam(RichInt(
-		"basis_loop_length", o.basis_loop_length, "Basis word length",
-		"The paper's eta (Algorithm 1): longest product of generators tried when expressing a symmetry."));
-	parameters.addParam(RichPercentage(
-		"basis_tolerance", o.basis_tolerance * d, 0, d, "Basis tolerance",
-		"The paper's delta (Algorithm 1): a symmetry within this distance of a product of generators, in "
-		"transformation space, is a compound of them rather than a new generator."));
+	if (groupAndBasis)
+		appendBasisParameters(o, d, parameters);
 	if (createPatchLayers)
 		parameters.addParam(RichBool(
 			"create_patch_layers", *createPatchLayers, "Create patch layers",
@@ -116,7 +130,8 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, s
 symmetry::DetectionOptions fromRichParameterList(const RichParameterList& p, double diagonal)
 {
 	symmetry::DetectionOptions o;
-	o.group = symmetry::TransformationGroup(p.getEnum("transformation_group"));
+	if (p.hasParameter("transformation_group"))
+		o.group = symmetry::TransformationGroup(p.getEnum("transformation_group"));
 	o.sample_count = p.getInt("sample_count");
 	o.working.max_vertices = p.getInt("max_working_vertices");
 	o.pair_sample_count = p.getInt("pair_sample_count");
@@ -126,15 +141,18 @@ symmetry::DetectionOptions fromRichParameterList(const RichParameterList& p, dou
 	o.min_patch_area = p.getFloat("min_patch_area") / 100.0;
 	o.max_symmetries = p.getInt("max_symmetries");
 	o.refine_with_icp = p.getBool("refine_with_icp");
-	o.reduce_basis = p.getBool("reduce_basis");
-	o.basis_loop_length = p.getInt("basis_loop_length");
+	if (p.hasParameter("reduce_basis")) {
+		o.reduce_basis = p.getBool("reduce_basis");
+		o.basis_loop_length = p.getInt("basis_loop_length");
+	}
 	// Any int is a valid seed; negative ones wrap to distinct unsigned seeds.
 	o.random_seed = unsigned(p.getInt("random_seed"));
 	if (usableDiagonal(diagonal)) {
 		o.curvature_radius = p.getAbsPerc("curvature_radius") / diagonal;
 		o.cluster_bandwidth = p.getAbsPerc("cluster_bandwidth") / diagonal;
 		o.verification_tolerance = p.getAbsPerc("verification_tolerance") / diagonal;
-		o.basis_tolerance = p.getAbsPerc("basis_tolerance") / diagonal;
+		if (p.hasParameter("basis_tolerance"))
+			o.basis_tolerance = p.getAbsPerc("basis_tolerance") / diagonal;
 	}
 	return o;
 }
@@ -187,6 +205,18 @@ bool createReconstructionLayer(const RichParameterList& p)
 QString instancesFile(const RichParameterList& p)
 {
 	return p.getString("instances_file");
+}
+
+void appendSegmentationParameters(RichParameterList& parameters)
+{
+	parameters.addParam(RichBool(
+		"create_segment_layers", true, "Create segment layers",
+		"For segment k, add the layers segment_k_first and segment_k_second holding the part in either pose."));
+}
+
+bool createSegmentLayers(const RichParameterList& p)
+{
+	return p.getBool("create_segment_layers");
 }
 
 }  // namespace symmetry_parameters

@@ -19,15 +19,18 @@ namespace symmetry_parameters {
 /// parameter when it is empty: the symmetrization filter writes none).  Lengths the core takes as fractions of the
 /// bounding-box diagonal become RichPercentage values; `diagonal` is the diagonal of
 /// the mesh the dialog is opened on (the absolute value a percentage stands for).
+/// Without `groupAndBasis`, transformation_group and the basis reduction's parameters are
+/// left out (rigid segmentation between two poses fixes the group and reduces no basis).
 void toRichParameterList(const symmetry::DetectionOptions& options, double diagonal,
-                         std::optional<bool> createPatchLayers, RichParameterList& parameters);
+                         std::optional<bool> createPatchLayers, RichParameterList& parameters,
+                         bool groupAndBasis = true);
 
 /// Reads the parameters back into the core's units: percentages of the diagonal become
 /// fractions of `diagonal`, the patch area in percent becomes a fraction.  No range check
 /// here; DetectionOptions::validate() is the one place that judges the values.  If
 /// `diagonal` is not a positive finite number (a mesh with no usable bounding box), the
 /// length parameters keep the core's defaults so that the mesh itself, not a derived
-/// length, is what the core rejects.
+/// length, is what the core rejects.  Parameters left out of the list keep the core's defaults.
 symmetry::DetectionOptions fromRichParameterList(const RichParameterList& parameters, double diagonal);
 
 /// The value of create_patch_layers.
@@ -45,5 +48,10 @@ symmetry::SymmetrizationOptions symmetrizationOptions(const RichParameterList& p
 void appendReductionParameters(RichParameterList& parameters);
 bool createReconstructionLayer(const RichParameterList& parameters);
 QString instancesFile(const RichParameterList& parameters);
+
+/// The segmentation filter's own parameter, appended after the detection parameters:
+/// create_segment_layers, which only tells the adapter whether to add a layer per segment.
+void appendSegmentationParameters(RichParameterList& parameters);
+bool createSegmentLayers(const RichParameterList& parameters);
 
 }  // namespace symmetry_parameters

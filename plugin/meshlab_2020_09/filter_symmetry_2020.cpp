@@ -32,7 +32,7 @@ symmetry::Progress progressOf(vcg::CallBackPos* cb)
 
 FilterSymmetryPlugin::FilterSymmetryPlugin()
 {
-	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING};
+	typeList = {FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING, FP_SEGMENTATION};
 	for (FilterIDType id : types())
 		actionList.push_back(new QAction(filterName(id), this));
 }
@@ -49,6 +49,7 @@ QString FilterSymmetryPlugin::filterName(FilterIDType filter) const
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationName();
 	case FP_REDUCTION: return symmetry_texts::reductionName();
 	case FP_EDITING: return symmetry_texts::editingName();
+	case FP_SEGMENTATION: return symmetry_texts::segmentationName();
 	default: assert(0); return QString();
 	}
 }
@@ -60,6 +61,7 @@ QString FilterSymmetryPlugin::filterInfo(FilterIDType filter) const
 	case FP_SYMMETRIZATION: return symmetry_texts::symmetrizationInfo(false);
 	case FP_REDUCTION: return symmetry_texts::reductionInfo(false);
 	case FP_EDITING: return symmetry_texts::editingInfo(false);
+	case FP_SEGMENTATION: return symmetry_texts::segmentationInfo(false);
 	default: assert(0); return QString();
 	}
 }
@@ -74,9 +76,9 @@ MeshFilterInterface::FilterClass FilterSymmetryPlugin::getClass(QAction* action)
 	}
 }
 
-MeshFilterInterface::FILTER_ARITY FilterSymmetryPlugin::filterArity(QAction*) const
+MeshFilterInterface::FILTER_ARITY FilterSymmetryPlugin::filterArity(QAction* action) const
 {
-	return SINGLE_MESH;
+	return ID(action) == FP_SEGMENTATION ? FIXED : SINGLE_MESH;
 }
 
 int FilterSymmetryPlugin::getPreConditions(QAction*) const
@@ -100,6 +102,7 @@ symmetry_host::Filter FilterSymmetryPlugin::filterOf(QAction* action) const
 	case FP_SYMMETRIZATION: return symmetry_host::Filter::Symmetrization;
 	case FP_REDUCTION: return symmetry_host::Filter::Reduction;
 	case FP_EDITING: return symmetry_host::Filter::Editing;
+	case FP_SEGMENTATION: return symmetry_host::Filter::Segmentation;
 	default: return symmetry_host::Filter::Detection;
 	}
 }
@@ -115,6 +118,7 @@ bool FilterSymmetryPlugin::applyFilter(QAction* action, MeshDocument& md, const 
 		case FP_SYMMETRIZATION: symmetrize(md, parameters, cb); break;
 		case FP_REDUCTION: reduce(md, parameters, cb); break;
 		case FP_EDITING: carryEdit(md, parameters, cb); break;
+		case FP_SEGMENTATION: segment(md, parameters, cb); break;
 		default: throw MLException("Unknown filter of the symmetry plugin.");
 		}
 		return true;
@@ -168,4 +172,11 @@ void FilterSymmetryPlugin::carryEdit(MeshDocument& md, const RichParameterList& 
 		throw MLException("Consistent editing needs the edited mesh as the current mesh and the original as original_mesh.");
 	const symmetry_host::Editing done = symmetry_host::carryEdit(*original, *edited, parameters, progressOf(cb));
 	Log(qUtf8Printable(symmetry_host::editingLog(done)));
+}
+
+void FilterSymmetryPlugin::segment(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb)
+{
+	const symmetry_host::Segmentation done = symmetry_host::segmentPoses(md, parameters, progressOf(cb));
+	for (const QString& line : symmetry_host::segmentationLog(done))
+		Log(qUtf8Printable(line));
 }

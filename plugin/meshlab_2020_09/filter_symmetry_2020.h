@@ -18,19 +18,20 @@ class FilterSymmetryPlugin : public QObject, public MeshFilterInterface
 	Q_INTERFACES(MeshFilterInterface)
 
 public:
-	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING };
+	enum { FP_PARTIAL_SYMMETRIES, FP_SYMMETRIZATION, FP_REDUCTION, FP_EDITING, FP_SEGMENTATION };
 
 	FilterSymmetryPlugin();
 
 	/// "FilterSymmetry".
 	QString pluginName() const override;
 	/// The menu entries, the names a filter script (.mlx) uses: "Detect Partial and
-	/// Approximate Symmetries", "Symmetrize Approximate Symmetries" and "Symmetry-Based Reduction".
+	/// Approximate Symmetries", "Symmetrize Approximate Symmetries", "Symmetry-Based Reduction",
+	/// "Carry an Edit to Symmetric Copies" and "Segment Rigid Parts Between Two Poses".
 	QString filterName(FilterIDType filter) const override;
 	/// Paper reference and the meaning of every output written to the mesh.
 	QString filterInfo(FilterIDType filter) const override;
 	FilterClass getClass(QAction* action) override;
-	/// SINGLE_MESH: the current mesh is the input.
+	/// SINGLE_MESH: the current mesh is the input; FIXED for segmentation (two mesh parameters).
 	FILTER_ARITY filterArity(QAction* action) const override;
 	/// None: the core itself refuses what it cannot analyse, saying what to do.
 	int getPreConditions(QAction* action) const override;
@@ -51,6 +52,7 @@ private:
 	void symmetrize(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 	void reduce(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 	void carryEdit(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
+	void segment(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
 
 	/// Which of the filters `action` is (host_mesh.h's Filter).
 	symmetry_host::Filter filterOf(QAction* action) const;

@@ -20,6 +20,11 @@ from .api import GROUPS, PARAMETERS, _group_index
 DETECTION_FILTER = "Detect Partial and Approximate Symmetries"
 #: the menu entry of the reduction filter (issue 9)
 REDUCTION_FILTER = "Symmetry-Based Reduction"
+#: the menu entry of the rigid segmentation between two poses (issue 9)
+SEGMENTATION_FILTER = "Segment Rigid Parts Between Two Poses"
+#: detection's parameters the segmentation filter does not take: it fixes the group and
+#: reduces no basis
+_NOT_SEGMENTATION = ("transformation_group", "reduce_basis", "basis_loop_length", "basis_tolerance")
 
 # The display names of transformation_group's values, as the plugin lists them
 # (symmetry_parameters.cpp); a script carries them, the filter reads only the index.
@@ -53,10 +58,29 @@ def meshlabserver_reduction_script(diagonal: float, instances_file: str = "",
                     _element("instances_file", "RichString", str(instances_file))])
 
 
-def _script(filter_name, diagonal, parameters, before_seed, after=()):
-    """A script of one filter: detect's parameters in the plugin's order, `before_seed`
-    ({name: (type, bool)}) just before random_seed as the detection filter has it, and the
-    elements `after` at the end."""
+def meshlabserver_segmentation_script(diagonal: float, first_mesh: int = 0, second_mesh: int = 1,
+                                      create_segment_layers: bool = False, **parameters: Any) -> str:
+    """The same for "Segment Rigid Parts Between Two Poses": the meshes are the layers
+    ``first_mesh`` and ``second_mesh`` in the order meshlabserver loaded them (``-i a.ply
+    b.ply``: 0 and 1), ``diagonal`` the first pose's, and detect's parameters but the group
+    and the basis reduction's (ValueError for those).  meshlabserver saves only the current
+    mesh: with ``-o`` and ``-m vc`` it is the first pose, coloured by segment, and the log
+    holds one line per segment with its transform."""
+    refused = sorted(set(parameters) & set(_NOT_SEGMENTATION))
+    if refused:
+        raise ValueError(f"{', '.join(refused)}: the segmentation filter has no such parameter (its group is the "
+                         "rigid motions, and it reduces no basis)")
+    meshes = [_element("first_mesh", "RichMesh", str(int(first_mesh))),
+              _element("second_mesh", "RichMesh", str(int(second_mesh)))]
+    return _script(SEGMENTATION_FILTER, diagonal, parameters, {},
+                   [_element("create_segment_layers", "RichBool", "true" if create_segment_layers else "false")],
+                   first=meshes, leave_out=_NOT_SEGMENTATION)
+
+
+def _script(filter_name, diagonal, parameters, before_seed, after=(), first=(), leave_out=()):
+    """A script of one filter: the elements `first`, detect's parameters but `leave_out` in
+    the plugin's order, `before_seed` ({name: (type, bool)}) just before random_seed as the
+    detection filter has it, and the elements `after` at the end."""
     if not diagonal > 0:
         raise ValueError(f"the diagonal is {diagonal}; a filter script needs the positive bounding-box diagonal "
                          "of the mesh it is for")
@@ -65,7 +89,10 @@ def _script(filter_name, diagonal, parameters, before_seed, after=()):
     if unknown:
         raise ValueError(f"unknown parameter(s) {', '.join(unknown)}; detect takes {', '.join(sorted(known))}")
     lines = ["<!DOCTYPE FilterScript>", "<FilterScript>", f" <filter name={quoteattr(filter_name)}>"]
+    lines += ["  " + e for e in first]
     for p in PARAMETERS:
+        if p.name in leave_out:
+            continue
         if p.name == "random_seed":
             for name, (kind, value) in before_seed.items():
                 lines.append("  " + _element(name, kind, "true" if value else "false"))

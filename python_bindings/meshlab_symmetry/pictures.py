@@ -402,6 +402,48 @@ def editing_picture(original: tuple[np.ndarray, np.ndarray], edited: np.ndarray,
     return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
 
 
+def segmentation_picture(first: tuple[np.ndarray, np.ndarray], second: tuple[np.ndarray, np.ndarray],
+                         first_ids: np.ndarray, second_ids: np.ndarray, path: str, *,
+                         view: tuple[float, float] = (20.0, -60.0), title: Optional[str] = None) -> Picture:
+    """The rigid segments between two poses (compute_rigid_segments_between_meshes): the
+    ``first`` pose = (vertices, faces) on the left and the ``second`` beside it, each face in
+    the colour of its vertices' segment (``first_ids``, ``second_ids``: the per-vertex
+    segment_id of either mesh), light grey where no segment holds.  A pose of more than half
+    MAX_DRAWN_FACES faces is drawn simplified, each drawn vertex coloured as the nearest one."""
+    poses = []
+    for (V, F), ids in ((first, first_ids), (second, second_ids)):
+        V, F, ids = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64), np.asarray(ids, dtype=np.int64)
+        if len(F) > MAX_DRAWN_FACES // 2:
+            ms = _private_meshset((V, F))
+            ms.meshing_decimation_quadric_edge_collapse(targetfacenum=MAX_DRAWN_FACES // 2, preservenormal=True)
+            W, F = ms.current_mesh().vertex_matrix().copy(), ms.current_mesh().face_matrix().copy()
+            ids = ids[cKDTree(V).query(W)[1]]
+            V = W
+        poses.append((V, F, ids))
+    # The second pose beside the first, to the right as the view looks.
+    elevation, azimuth = np.radians(view)
+    right = np.array([-np.sin(azimuth), np.cos(azimuth), 0.0])
+    (V1, F1, ids1), (V2, F2, ids2) = poses
+    width = float(np.ptp(V1 @ right)) + float(np.ptp(V2 @ right))
+    shift = right * (float((V1 @ right).max() - (V2 @ right).min()) + 0.15 * width)
+    triangles = np.concatenate([V1[F1], (V2 + shift)[F2]])
+    labels = np.concatenate([ids1[F1], ids2[F2]])
+    # A face takes the segment of most of its corners (a corner's own when all differ).
+    face_ids = np.where(labels[:, 1] == labels[:, 2], labels[:, 1], labels[:, 0])
+    segments = int(max(ids1.max(initial=-1), ids2.max(initial=-1))) + 1
+    palette = np.array([PALETTE[k % len(PALETTE)] for k in range(max(segments, 1))])
+    rgb = np.where(face_ids[:, None] >= 0, palette[np.maximum(face_ids, 0)], 0.82)
+    fig = _new_figure(title or f"Rigid segments between two poses: {segments} parts")
+    ax = _mesh_axes(fig, triangles.reshape(-1, 3), view)
+    _add_surface(ax, triangles, np.hstack([_shaded(rgb, triangles, view), np.ones((len(rgb), 1))]))
+    handles = [Patch(color=palette[k], label=f"segment {k}: {int(np.sum(first_ids == k))} + "
+                                             f"{int(np.sum(second_ids == k))} vertices") for k in range(segments)]
+    handles.append(Patch(color=(0.82, 0.82, 0.82), label="no rigid part"))
+    legend = fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.66, 0.5), fontsize=9,
+                        title="first pose + second pose")
+    return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
+
+
 # --- c. transformation space: the detector's own Γ (§3) ----------------------------------------------
 
 def detector_transformation_space(mesh: MeshInput, result: SymmetryResult) -> dict[str, np.ndarray]:

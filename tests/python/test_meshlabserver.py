@@ -23,11 +23,13 @@ import pytest
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import metrics  # noqa: E402
 import scenes  # noqa: E402
+import two_poses  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 from conftest import skip_unless_ci  # noqa: E402
 
-from meshlab_symmetry.filter_script import meshlabserver_reduction_script, meshlabserver_script  # noqa: E402
+from meshlab_symmetry.filter_script import (meshlabserver_reduction_script, meshlabserver_script,  # noqa: E402
+                                            meshlabserver_segmentation_script)
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 PLUGIN = os.path.join(ROOT, "build", "meshlab-2020.09", "libfilter_symmetry.so")
@@ -69,10 +71,12 @@ def installed_plugin():
 
 
 def _meshlabserver(tmp_path, mesh_path, script_text, output="out.ply"):
+    """Runs the script on the mesh (or the meshes, a list, loaded as layers 0, 1, ...)."""
     script = tmp_path / "detect.mlx"
     script.write_text(script_text)
     out = tmp_path / output
-    run = subprocess.run(["xvfb-run", "-a", "meshlabserver", "-i", str(mesh_path), "-o", str(out),
+    inputs = [str(p) for p in mesh_path] if isinstance(mesh_path, list) else [str(mesh_path)]
+    run = subprocess.run(["xvfb-run", "-a", "meshlabserver", "-i", *inputs, "-o", str(out),
                           "-m", "vq", "vc", "-s", str(script)],
                          capture_output=True, text=True, timeout=600, cwd=tmp_path)
     return run, out
@@ -154,6 +158,36 @@ def test_meshlabserver_reduction_saves_one_copy_and_writes_the_instances(install
     assert k >= 0, f"no instance within {metrics.RECALL_TOL} of the planted mirror (best {distance:.4f})"
 
 
+def test_meshlabserver_segments_two_poses_into_their_planted_parts(installed_plugin, tmp_path):
+    """Segment Rigid Parts Between Two Poses in a batch job, the two poses loaded as layers 0
+    and 1: the log's segment transforms are the planted motions of the three parts, and the
+    saved mesh is coloured by segment."""
+    poses = two_poses.make_two_poses(0, fused=True)
+    paths = []
+    for name, pose in (("first", poses.first), ("second", poses.second)):
+        ms = pymeshlab.MeshSet()
+        ms.add_mesh(pymeshlab.Mesh(pose.V, pose.F))
+        paths.append(tmp_path / f"{name}.ply")
+        ms.save_current_mesh(str(paths[-1]))
+    script = meshlabserver_segmentation_script(poses.diagonal, sample_count=4000)
+    run, out = _meshlabserver(tmp_path, paths, script)
+    log = run.stdout + run.stderr
+    assert run.returncode == 0 and out.exists(), log[-3000:]
+    transforms = []
+    for line in log.splitlines():
+        m = re.match(r"^Segment \d+: .*, transform \[([^\]]+)\]", line)
+        if m:
+            rows = [[float(x) for x in row.split()] for row in m.group(1).split(";")]
+            transforms.append(np.vstack([np.array(rows), [0, 0, 0, 1]]))
+    for part in range(len(two_poses.PARTS)):
+        best = min(two_poses.transform_error(poses, part, T) for T in transforms)
+        assert best < 0.005, (part, best, log[-3000:])
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(out))
+    colours = {tuple(c) for c in np.round(255 * ms.current_mesh().vertex_color_matrix()[:, :3]).astype(int)}
+    assert len(colours - {GREY}) == len(transforms)
+
+
 def test_meshlabserver_failure_says_why_and_writes_nothing(installed_plugin, mirrored_scene, tmp_path):
     scene, path = mirrored_scene
     with open(path, "rb") as f:
@@ -175,6 +209,12 @@ def test_filter_script_has_every_parameter_the_filter_declares():
     declared = list(ms.filter_parameter_values("compute_partial_symmetries"))
     written = re.findall(r'<Param name="([^"]+)"', meshlabserver_script(2.0))
     assert written == declared
+    ms.create_sphere()  # a second mesh for the segmentation's second pose
+    declared = list(ms.filter_parameter_values("compute_rigid_segments_between_meshes"))
+    written = re.findall(r'<Param name="([^"]+)"', meshlabserver_segmentation_script(2.0))
+    assert written == declared and written[:2] == ["first_mesh", "second_mesh"]
+    with pytest.raises(ValueError, match="no such parameter"):
+        meshlabserver_segmentation_script(2.0, transformation_group=2)
 
 
 def test_filter_script_lengths_are_absolute_for_the_given_diagonal():
