@@ -31,11 +31,13 @@ def run(scene, limit, threads):
     return json.loads(out.strip().splitlines()[-1])
 
 
-# A full-resolution scene and one analysed on a simplified copy (whose deviations are
-# measured on the input in parallel); a row of copies, whose later candidates converge onto
-# relations found while they were verified ahead; a wingnut, whose continuous family found
-# mid-way sends clustering back to the top and discards what was verified ahead.
-@pytest.mark.parametrize("scene,limit", [("mirrored", 0), ("rigid", 4000), ("row", 0), ("wingnut", 0)])
+# A scene analysed on a simplified copy (whose deviations are measured on the input in
+# parallel); a row of copies at full resolution, whose later candidates converge onto
+# relations found while they were verified ahead; a wingnut at full resolution, whose
+# continuous family found mid-way sends clustering back to the top and discards what was
+# verified ahead.  (The planted mirror, a fourth case, ran the same code paths at full
+# resolution as these two, in 50 s of CI time.)
+@pytest.mark.parametrize("scene,limit", [("rigid", 4000), ("row", 0), ("wingnut", 0)])
 def test_one_and_two_threads_give_the_same_result(scene, limit):
     one, two = run(scene, limit, 1), run(scene, limit, 2)
     assert len(one["transforms"]) > 0
