@@ -107,7 +107,7 @@ test: build meshlabserver-plugin meshlab
 SANITIZE_BUILD := $(ROOT)/build-sanitize
 SANITIZER_RUNTIMES = $$(g++ -print-file-name=libasan.so):$$(g++ -print-file-name=libubsan.so)
 SANITIZE_PYTESTS := tests/python/test_broken_input.py tests/python/test_filter_api.py tests/python/test_parameter_extremes.py \
-  tests/python/test_symmetrization.py tests/python/test_rigid_segmentation.py
+  tests/python/test_symmetrization.py
 SANITIZE_FUZZ_CASES := 50
 test-sanitize: setup
 	@cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYMMETRY_SANITIZE=ON -Wno-dev -DPYTHON_EXECUTABLE=$(PY) -DCMAKE_DISABLE_FIND_PACKAGE_pybind11=ON \
