@@ -23,6 +23,19 @@ namespace {
 // Name of the per-vertex attribute holding the symmetry index (public API).
 const char* const kSymmetryIdAttribute = "symmetry_id";
 
+/// Per-vertex Scalarm attribute `name` holding idOfRow (per row of h.V), replacing one left
+/// by an earlier run (whatever its type).  Deleted vertices get -1.
+void writeVertexIdAttribute(CMeshO& m, const HostMesh& h, const std::vector<int>& idOfRow, const char* name)
+{
+	if (vcg::tri::HasPerVertexAttribute(m, name))
+		vcg::tri::Allocator<CMeshO>::DeletePerVertexAttribute(m, name);
+	auto id = vcg::tri::Allocator<CMeshO>::AddPerVertexAttribute<Scalarm>(m, name);
+	for (CVertexO& v : m.vert)
+		id[v] = Scalarm(-1);
+	for (size_t row = 0; row < h.vertexOfRow.size(); ++row)
+		id[*h.vertexOfRow[row]] = Scalarm(idOfRow[row]);
+}
+
 /// Copies of the input vertices in `rows` (with position, normal, colour, quality) and
 /// of the faces whose three vertices are all among them, or, if `faceRows` is given, of
 /// those faces (rows of h.F whose vertices are all in `rows`) alone.
@@ -280,13 +293,7 @@ void writeQualityAndColour(MeshModel& mm, const HostMesh& h, const symmetry::Det
 /// (whatever its type).  Deleted vertices get -1.
 void writeSymmetryIdAttribute(CMeshO& m, const HostMesh& h, const symmetry::DetectionResult& r)
 {
-	if (vcg::tri::HasPerVertexAttribute(m, kSymmetryIdAttribute))
-		vcg::tri::Allocator<CMeshO>::DeletePerVertexAttribute(m, kSymmetryIdAttribute);
-	auto id = vcg::tri::Allocator<CMeshO>::AddPerVertexAttribute<Scalarm>(m, kSymmetryIdAttribute);
-	for (CVertexO& v : m.vert)
-		id[v] = Scalarm(-1);
-	for (size_t row = 0; row < h.vertexOfRow.size(); ++row)
-		id[*h.vertexOfRow[row]] = Scalarm(r.vertex_symmetry_id[row]);
+	writeVertexIdAttribute(m, h, r.vertex_symmetry_id, kSymmetryIdAttribute);
 }
 
 namespace {
@@ -694,19 +701,12 @@ namespace {
 // colour per segment, grey where none holds.  Deleted vertices get -1.
 void writeSegmentIds(MeshModel& mm, const HostMesh& h, const std::vector<int>& segmentOfRow, int segments)
 {
-	const char* const name = "segment_id";
-	CMeshO& m = mm.cm;
+	writeVertexIdAttribute(mm.cm, h, segmentOfRow, "segment_id");
 	mm.updateDataMask(MeshModel::MM_VERTCOLOR);
-	if (vcg::tri::HasPerVertexAttribute(m, name))
-		vcg::tri::Allocator<CMeshO>::DeletePerVertexAttribute(m, name);
-	auto id = vcg::tri::Allocator<CMeshO>::AddPerVertexAttribute<Scalarm>(m, name);
-	for (CVertexO& v : m.vert)
-		id[v] = Scalarm(-1);
 	for (size_t row = 0; row < h.vertexOfRow.size(); ++row) {
-		CVertexO& v = *h.vertexOfRow[row];
 		const int k = segmentOfRow[row];
-		id[v] = Scalarm(k);
-		v.C() = k < 0 ? vcg::Color4b(vcg::Color4b::Gray) : vcg::Color4b::Scatter(std::max(segments, 2), k);
+		h.vertexOfRow[row]->C() =
+			k < 0 ? vcg::Color4b(vcg::Color4b::Gray) : vcg::Color4b::Scatter(std::max(segments, 2), k);
 	}
 }
 
