@@ -87,4 +87,15 @@ std::pair<int, double> KdTree::nearest(const double* query) const {
     return {int(index), std::sqrt(squared)};
 }
 
+std::vector<int> KdTree::nearest_k(const double* query, int k) const {
+    const size_t count = size_t(std::max(0, std::min<int>(k, int(points_.rows()))));
+    std::vector<size_t> indices(count);
+    std::vector<double> squared(count);
+    if (count == 0) return {};
+    nanoflann::KNNResultSet<double, size_t> result(count);
+    result.init(indices.data(), squared.data());
+    index_->tree.findNeighbors(result, query, nanoflann::SearchParams());
+    return std::vector<int>(indices.begin(), indices.begin() + long(result.size()));
+}
+
 }  // namespace symmetry

@@ -37,6 +37,9 @@ public:
     /// Index of the nearest point and its Euclidean distance.
     std::pair<int, double> nearest(const double* query) const;
 
+    /// Indices of the `k` nearest points (fewer if the tree holds fewer), nearest first.
+    std::vector<int> nearest_k(const double* query, int k) const;
+
 private:
     struct Index;
     Points points_;

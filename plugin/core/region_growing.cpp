@@ -1,5 +1,7 @@
 #include "region_growing.h"
 
+#include "point_cloud.h"
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -91,6 +93,30 @@ MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
         for (int k = 0; k < 3; ++k)
             if (face.cFFp(k) == &face) n.component_open[size_t(n.component_of[size_t(n.faces[f][0])])] = 1;
     }
+    return n;
+}
+
+MeshNeighbourhoods cloud_neighbourhoods(const std::vector<Eigen::Vector3d>& points,
+                                        const std::vector<Eigen::Vector3d>& normals,
+                                        const std::vector<double>& areas, int neighbours) {
+    MeshNeighbourhoods n;
+    n.positions = points;
+    neighbour_graph(points, neighbours, n.neighbour_offsets, n.neighbours);
+    const int count = int(points.size());
+    n.faces.resize(size_t(count));
+    n.face_offsets.resize(size_t(count) + 1);
+    n.faces_around.resize(size_t(count));
+    for (int i = 0; i < count; ++i) {
+        n.faces[size_t(i)] = {i, i, i};
+        n.face_offsets[size_t(i)] = i;
+        n.faces_around[size_t(i)] = i;
+    }
+    n.face_offsets[size_t(count)] = count;
+    n.face_normals = normals;
+    n.face_areas = areas;
+    n.vertex_areas = areas;
+    label_components(n);
+    n.component_open.assign(n.component_areas.size(), 0);
     return n;
 }
 

@@ -40,6 +40,15 @@ struct MeshNeighbourhoods {
 };
 MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh);
 
+/// A point cloud walked the same way: its neighbours are those of the symmetric
+/// `neighbours`-nearest graph (point_cloud.h), and each point is a face of its own, a disc
+/// with corners (i, i, i), the point's normal and the area it stands for, so that a patch's
+/// area and a landing face mean for a cloud what they mean for a mesh (SurfaceQuery's discs
+/// answer with the same index).  Normals are oriented (point_cloud.h): no part is open.
+MeshNeighbourhoods cloud_neighbourhoods(const std::vector<Eigen::Vector3d>& points,
+                                        const std::vector<Eigen::Vector3d>& normals,
+                                        const std::vector<double>& areas, int neighbours);
+
 /// What counts as debris (scanner specks, stray triangles): the smallest connected
 /// components that together hold at most `area_share` of the area, each of them smaller
 /// than `max_component_area`.  The second bound keeps a part repeated many times (120

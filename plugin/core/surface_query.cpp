@@ -1,5 +1,7 @@
 #include "surface_query.h"
 
+#include "kd_tree.h"
+
 #include <vcg/complex/algorithms/closest.h>
 #include <algorithm>
 #include <cmath>
@@ -12,10 +14,51 @@ struct SurfaceQuery::Grid {
     vcg::GridStaticPtr<Face, double> grid;
 };
 
-SurfaceQuery::SurfaceQuery(const Mesh& mesh, double cells_per_face) : mesh_(mesh), grid_(std::make_unique<Grid>()) {
+SurfaceQuery::SurfaceQuery(const Mesh& mesh, double cells_per_face) : mesh_(&mesh), grid_(std::make_unique<Grid>()) {
     Mesh& m = const_cast<Mesh&>(mesh);  // vcg's grid stores non-const face pointers; it never writes
     const int cells = int(std::max(1.0, std::min(cells_per_face * double(m.face.size()), 1e8)));
     grid_->grid.Set(m.face.begin(), m.face.end(), cells);
+}
+
+// A cloud's discs: a kd-tree over their centres, searched for the `candidates` nearest.
+struct SurfaceQuery::Discs {
+    std::vector<Eigen::Vector3d> centres, normals;
+    std::vector<double> radii;
+    KdTree tree;
+    int candidates;
+
+    static KdTree::Points rows(const std::vector<Eigen::Vector3d>& points) {
+        KdTree::Points r(Eigen::Index(points.size()), 3);
+        for (size_t i = 0; i < points.size(); ++i) r.row(Eigen::Index(i)) = points[i].transpose();
+        return r;
+    }
+    Discs(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& n, const std::vector<double>& r,
+          int k)
+        : centres(p), normals(n), radii(r), tree(rows(p)), candidates(k) {}
+
+    // The point of disc i nearest to q: q's projection on its plane, pulled in to the rim.
+    ClosestPoint on_disc(int i, const Eigen::Vector3d& q) const {
+        ClosestPoint c;
+        const Eigen::Vector3d& n = normals[size_t(i)];
+        const double height = (q - centres[size_t(i)]).dot(n);
+        Eigen::Vector3d tangential = q - height * n - centres[size_t(i)];
+        const double reach = tangential.norm();
+        if (reach > radii[size_t(i)]) tangential *= radii[size_t(i)] / reach;
+        c.found = true;
+        c.face = i;
+        c.point = centres[size_t(i)] + tangential;
+        c.normal = n;
+        c.distance = (q - c.point).norm();
+        c.signed_distance = height >= 0 ? c.distance : -c.distance;
+        return c;
+    }
+};
+
+SurfaceQuery::SurfaceQuery(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                           const std::vector<double>& radii, int candidate_discs) {
+    if (normals.size() != points.size() || radii.size() != points.size() || candidate_discs < 1)
+        throw InputError("A surface of discs needs one normal and one radius per point, and at least one disc per query.");
+    discs_ = std::make_unique<Discs>(points, normals, radii, candidate_discs);
 }
 
 SurfaceQuery::~SurfaceQuery() = default;
@@ -97,8 +140,42 @@ const Face* grid_closest(vcg::GridStaticPtr<Face, double>& grid, Distance& point
 }
 }  // namespace
 
+namespace {
+// landing() on a cloud's discs: the same three answers from the nearest discs.
+SurfaceQuery::Landing disc_landing(const std::vector<ClosestPoint>& near, double max_distance, double tie,
+                                   const std::vector<Eigen::Vector3d>& normals, double min_cosine) {
+    SurfaceQuery::Landing out;
+    const ClosestPoint* nearest = nullptr;
+    for (const ClosestPoint& c : near)
+        if (c.distance <= max_distance && (!nearest || c.distance < nearest->distance)) nearest = &c;
+    if (!nearest) return out;
+    out.nearest = *nearest;
+    const double reach = nearest->distance + tie;
+    for (const ClosestPoint& c : near) {
+        if (c.distance > reach) continue;
+        double agreement = -1, agreement_either_sign = -1;
+        for (const Eigen::Vector3d& m : normals) {
+            agreement = std::max(agreement, c.normal.dot(m));
+            agreement_either_sign = std::max(agreement_either_sign, std::abs(c.normal.dot(m)));
+        }
+        if (agreement >= min_cosine && (!out.facing.found || c.distance < out.facing.distance)) out.facing = c;
+        if (agreement_either_sign >= min_cosine &&
+            (!out.facing_either_sign.found || c.distance < out.facing_either_sign.distance))
+            out.facing_either_sign = c;
+    }
+    return out;
+}
+}  // namespace
+
+std::vector<ClosestPoint> SurfaceQuery::nearest_discs(const Eigen::Vector3d& query) const {
+    std::vector<ClosestPoint> near;
+    for (int i : discs_->tree.nearest_k(query.data(), discs_->candidates)) near.push_back(discs_->on_disc(i, query));
+    return near;
+}
+
 SurfaceQuery::Landing SurfaceQuery::landing(const Eigen::Vector3d& query, double max_distance, double tie,
                                             const std::vector<Eigen::Vector3d>& normals, double min_cosine) const {
+    if (discs_) return disc_landing(nearest_discs(query), max_distance, tie, normals, min_cosine);
     LandingSearch search{&normals, min_cosine, tie, {}, {}, {}};
     LandingDistance point_face_distance{&search};
     // The bound starts a tie beyond max_distance: a facing face just beyond it counts
@@ -107,21 +184,27 @@ SurfaceQuery::Landing SurfaceQuery::landing(const Eigen::Vector3d& query, double
     grid_closest(grid_->grid, point_face_distance, query, max_distance + tie, unused);
     Landing out;
     if (search.nearest.distance > max_distance) return out;  // also when no face was met
-    out.nearest = closest_point(mesh_, query, search.nearest.face, search.nearest.point);
+    out.nearest = closest_point(*mesh_, query, search.nearest.face, search.nearest.point);
     // Only the faces as near as the nearest one count (see RegionGrower::accepts).
     const double reach = search.nearest.distance + tie;
     if (search.facing.distance <= reach)
-        out.facing = closest_point(mesh_, query, search.facing.face, search.facing.point);
+        out.facing = closest_point(*mesh_, query, search.facing.face, search.facing.point);
     if (search.facing_either_sign.distance <= reach)
-        out.facing_either_sign = closest_point(mesh_, query, search.facing_either_sign.face, search.facing_either_sign.point);
+        out.facing_either_sign = closest_point(*mesh_, query, search.facing_either_sign.face, search.facing_either_sign.point);
     return out;
 }
 
 ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_distance) const {
+    if (discs_) {
+        ClosestPoint best;
+        for (const ClosestPoint& c : nearest_discs(query))
+            if (c.distance <= max_distance && (!best.found || c.distance < best.distance)) best = c;
+        return best;
+    }
     vcg::face::PointDistanceBaseFunctor<double> point_face_distance;
     vcg::Point3d nearest;
     const Face* f = grid_closest(grid_->grid, point_face_distance, query, max_distance, nearest);
-    return closest_point(mesh_, query, f, nearest);
+    return closest_point(*mesh_, query, f, nearest);
 }
 
 SurfaceOfRows::SurfaceOfRows(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {

@@ -26,6 +26,13 @@ public:
     /// filled cell holds many faces, and every query tests them all.  Region growing asks
     /// one query per vertex, many times over: a finer grid pays there.
     explicit SurfaceQuery(const Mesh& mesh, double cells_per_face = 1);
+    /// A point cloud as a surface of discs (surfels): disc i is centred on points[i],
+    /// orthogonal to normals[i] (unit, outward), of radius radii[i].  Answers name the disc
+    /// by its point's index in `face`.  The arrays are copied.  Each query measures the
+    /// discs of the `candidate_discs` nearest centres: a disc reaches no farther than its
+    /// radius, a few spacings of the cloud, so the nearest disc is among them.
+    SurfaceQuery(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                 const std::vector<double>& radii, int candidate_discs = 16);
     ~SurfaceQuery();
     /// The closest point of the surface within `max_distance` of `query`; found=false if none.
     ClosestPoint closest(const Eigen::Vector3d& query, double max_distance) const;
@@ -44,9 +51,12 @@ public:
                     const std::vector<Eigen::Vector3d>& normals, double min_cosine) const;
 
 private:
+    std::vector<ClosestPoint> nearest_discs(const Eigen::Vector3d& query) const;
     struct Grid;
-    const Mesh& mesh_;
-    std::unique_ptr<Grid> grid_;
+    struct Discs;
+    const Mesh* mesh_ = nullptr;
+    std::unique_ptr<Grid> grid_;    // a mesh's faces
+    std::unique_ptr<Discs> discs_;  // or a cloud's discs
 };
 
 /// The triangle mesh (V, F) itself, searchable, answering with rows of F: for the uses of a
