@@ -80,6 +80,8 @@ py::dict work_dict(const DetectionResult& r) {
     w["verified_clusters"] = r.verified_candidates;
     w["working_vertices"] = r.working_vertices;
     w["welded_vertices"] = r.welded_vertices;
+    w["point_cloud"] = r.point_cloud;
+    w["normals_estimated"] = r.normals_estimated;
     w["flipped_faces"] = r.flipped_faces;
     w["noise"] = r.noise;
     w["smoothing_radius"] = r.smoothing_radius;
@@ -103,7 +105,11 @@ py::dict detect(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const py::
     DetectionResult r;
     {
         py::gil_scoped_release release;  // other Python threads run while the core works
-        r = detect_partial_symmetries(V, F, options, report);
+        // No faces: a point cloud, whose normals the core estimates (as the filter does for a
+        // cloud without normals).
+        r = F.rows() == 0 && V.rows() > 0
+                ? detect_partial_symmetries_in_point_cloud(V, Eigen::MatrixX3d(0, 3), options, report)
+                : detect_partial_symmetries(V, F, options, report);
     }
     py::list symmetries;
     for (const DetectedSymmetry& s : r.symmetries) symmetries.append(symmetry_dict(s));

@@ -4,6 +4,7 @@
 #include "kd_tree.h"
 #include "mean_shift.h"
 #include "pairing.h"
+#include "point_cloud.h"
 #include "sampling.h"
 #include "signatures.h"
 #include "surface_query.h"
@@ -55,9 +56,15 @@ struct Model {
     double noise = 0;   // estimated noise (denoising.h), absolute units
     DebrisRule debris;  // which connected components are specks (region_growing.h)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    // A point cloud: its points (presmoothed if noisy), outward normals and kd-tree
+    // (point_cloud.h), and the area each point stands for and its disc.  `input` then holds
+    // the points alone; no copy of it is simplified.
+    std::unique_ptr<PointCloudSurface> cloud;
+    PointAreas cloud_areas;
+    std::vector<Eigen::Vector3d> cloud_input;  // a presmoothed cloud's own points, where it is measured
     const Mesh& resolved() const { return working ? *working : input; }
     const Mesh& analysed() const { return smoothed ? *smoothed : resolved(); }
-    bool measured_apart() const { return working || smoothed; }
+    bool measured_apart() const { return working || smoothed || !cloud_input.empty(); }
 };
 
 void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,
@@ -106,6 +113,93 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
         smooth_positions(*model.smoothed, radius, options.denoising);
         result.smoothing_radius = radius / model.diagonal;
     }
+}
+
+// A point cloud as the stages see it (detect_partial_symmetries_in_point_cloud): the
+// points, their normals (estimated where the cloud has none), the area each stands for,
+// and the curvature ball, debris and noise as a mesh's, measured over the neighbour graph.
+void prepare_cloud_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N, const DetectionOptions& options,
+                         Model& model, DetectionResult& result) {
+    if (V.rows() == 0) throw InputError("The point cloud is empty: it has no points.");
+    if (!V.allFinite()) throw InputError("The point cloud has coordinates that are not finite numbers (NaN or infinity).");
+    const int limit = options.working.max_vertices;
+    if (limit > 0 && V.rows() > limit)
+        throw InputError("The point cloud has " + std::to_string(V.rows()) + " points, more than the " +
+                         std::to_string(limit) + " a cloud is analysed at (max_working_vertices): simplify it first "
+                         "(Filters > Sampling > Point Cloud Simplification).");
+    std::vector<Eigen::Vector3d> points(size_t(V.rows()));
+    for (Eigen::Index i = 0; i < V.rows(); ++i) points[size_t(i)] = V.row(i).transpose();
+    std::vector<Eigen::Vector3d> normals;
+    result.point_cloud = true;
+    result.normals_estimated = N.rows() == 0;
+    if (N.rows() == 0) {
+        normals = estimate_point_normals(points, options.point_cloud);
+    } else {
+        if (N.rows() != V.rows() || !N.allFinite())
+            throw InputError("The point cloud's normals must be finite, one per point.");
+        for (Eigen::Index i = 0; i < N.rows(); ++i) {
+            const Eigen::Vector3d n = N.row(i).transpose();
+            if (!(n.norm() > 0)) throw InputError("The point cloud has a zero normal: give every point one, or none.");
+            normals.push_back(n.normalized());
+        }
+    }
+    vcg::tri::Allocator<Mesh>::AddVertices(model.input, points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        model.input.vert[i].P() = vcg::Point3d(points[i].x(), points[i].y(), points[i].z());
+        model.input.vert[i].N() = vcg::Point3d(normals[i].x(), normals[i].y(), normals[i].z());
+    }
+    vcg::tri::UpdateBounding<Mesh>::Box(model.input);
+    model.vertex_of_input.resize(points.size());
+    std::iota(model.vertex_of_input.begin(), model.vertex_of_input.end(), 0);
+    model.diagonal = model.input.bbox.Diag();
+    if (!(model.diagonal > 0)) throw InputError("The point cloud's points all lie at one position.");
+    model.center = Eigen::Vector3d(model.input.bbox.Center()[0], model.input.bbox.Center()[1], model.input.bbox.Center()[2]);
+    model.cloud_areas = point_areas(points, options.point_cloud);
+    model.total_area = std::accumulate(model.cloud_areas.area.begin(), model.cloud_areas.area.end(), 0.0);
+    model.cloud = std::make_unique<PointCloudSurface>(std::move(points), std::move(normals));
+    const MeshNeighbourhoods neighbourhoods = cloud_neighbourhoods(model.cloud->points(), model.cloud->normals(),
+                                                                   model.cloud_areas.area, options.point_cloud.graph_neighbours);
+    const double asked_radius = options.curvature_radius * model.diagonal;
+    model.debris = {options.debris_area_share, M_PI * asked_radius * asked_radius};
+    model.radius = std::max(asked_radius, options.min_radius_in_edges * median_edge_length(neighbourhoods, model.debris));
+    // Noise as on a mesh (denoising.h): the ball grows with it, and the points are projected
+    // on their local quadric fits over the smoothing radius; deviations are measured on the
+    // cloud's own points.
+    const NoiseEstimate noise = estimate_noise(neighbourhoods, options.denoising);
+    model.noise = noise.noise;
+    result.noise = noise.noise / model.diagonal;
+    // A fit to points is less forgiving than a mesh's tensor, whose edges are already a
+    // piecewise-linear average: the threshold in spacings is the cloud's own.
+    DenoisingOptions denoising = options.denoising;
+    denoising.noise_threshold_in_edges = options.point_cloud.noise_threshold_in_spacings;
+    const double blur = smoothing_radius(noise, denoising);
+    if (blur > model.radius)
+        model.radius = std::max(model.radius, std::min(blur, options.denoising.max_radius_for_noise * model.diagonal));
+    result.curvature_radius = model.radius / model.diagonal;
+    if (blur > 0) {
+        const double radius = std::min(blur, model.radius);
+        model.cloud_input = model.cloud->points();
+        auto [points, normals] = model.cloud->projected_on_local_fits(radius);
+        model.cloud = std::make_unique<PointCloudSurface>(std::move(points), std::move(normals));
+        result.smoothing_radius = radius / model.diagonal;
+    }
+}
+
+// The structures of verification (§4) over what the stages analyse: a mesh's edges and
+// faces, or a cloud's neighbour graph and discs.
+MeshNeighbourhoods neighbourhoods_of(const Model& model, const DetectionOptions& options) {
+    if (model.cloud)
+        return cloud_neighbourhoods(model.cloud->points(), model.cloud->normals(), model.cloud_areas.area,
+                                    options.point_cloud.graph_neighbours);
+    return mesh_neighbourhoods(model.analysed());
+}
+SurfaceQuery surface_of(const Model& model, const DetectionOptions& options) {
+    if (model.cloud) return SurfaceQuery(model.cloud->points(), model.cloud->normals(), model.cloud_areas.disc_radius);
+    return SurfaceQuery(model.analysed(), options.verification.grid_cells_per_face);
+}
+CurvatureEstimator curvature_of(const Model& model) {
+    if (model.cloud) return CurvatureEstimator(*model.cloud);
+    return CurvatureEstimator(model.analysed());
 }
 
 // The dimension of Γ for the group: the degrees of freedom of its transformations.
@@ -194,9 +288,11 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
     const double radius = model.radius;
     Votes votes;
     auto start = Clock::now();
-    std::vector<SurfaceSample> samples = uniform_area_sampling(model.analysed(), options.sample_count, rng);
+    std::vector<SurfaceSample> samples =
+        model.cloud ? area_weighted_points(model.cloud->points(), model.cloud_areas.area, options.sample_count, rng)
+                    : uniform_area_sampling(model.analysed(), options.sample_count, rng);
     // One estimator for the signatures at r and, for the samples pruning keeps, at 2r.
-    const CurvatureEstimator curvature(model.analysed());
+    const CurvatureEstimator curvature = curvature_of(model);
     for (SurfaceSignature& s : compute_signatures(curvature, samples, radius))
         (has_distinct_principal_curvatures(s, options.umbilic_ratio, radius, options.flatness) ? votes.P : votes.discarded).push_back(s);
     std::vector<SurfaceSample> kept;
@@ -321,8 +417,11 @@ private:
     Sheet sheets_[2];
 };
 
-// The vertex of the sample's face nearest to the sample: where region growing starts.
-int seed_vertex(const Mesh& mesh, const SurfaceSignature& s) {
+// The vertex of the sample's face nearest to the sample: where region growing starts (on a
+// cloud, the sample's point).
+int seed_vertex(const Model& model, const SurfaceSignature& s) {
+    if (model.cloud) return s.face;
+    const Mesh& mesh = model.analysed();
     const Face& f = mesh.face[size_t(s.face)];
     int best = 0;
     double best_d = INFINITY;
@@ -390,8 +489,7 @@ class Verifier {
 public:
     Verifier(const Model& model, const Votes& votes, const TransformationSpace& space, const DetectionOptions& options)
         : model_(model), votes_(votes), space_(space), options_(options),
-          mesh_(mesh_neighbourhoods(model.analysed())),
-          surface_(model.analysed(), options.verification.grid_cells_per_face), curvature_(model.analysed()),
+          mesh_(neighbourhoods_of(model, options)), surface_(surface_of(model, options)), curvature_(curvature_of(model)),
           workers_(threads()) {
         for (Worker& w : workers_) {
             w.workspace = curvature_.workspace();
@@ -403,13 +501,13 @@ public:
         vo_.min_patch_area = options.min_patch_area * model.total_area;
         vo_.large_patch_area = 0.5 * model.total_area;
         vo_.debris = model.debris;
-        if (model.smoothed) vo_.noise = model.noise;
+        if (model.smoothed || !model.cloud_input.empty()) vo_.noise = model.noise;
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;
         vo_.group = options.group;
         for (const SignaturePair& pair : votes.pairs)
-            pair_endpoints_.push_back({seed_vertex(model.analysed(), votes.P[size_t(pair.first)]),
-                                       seed_vertex(model.analysed(), votes.P[size_t(pair.second)])});
+            pair_endpoints_.push_back({seed_vertex(model, votes.P[size_t(pair.first)]),
+                                       seed_vertex(model, votes.P[size_t(pair.second)])});
         for (int pair : votes.pair_of_point) endpoints_.push_back(pair_endpoints_[size_t(pair)]);
         // A cluster's mode is only as exact as the bandwidth: so is its test for membership.
         mode_slack_distance_ = std::max(vo_.tolerance, options.cluster_bandwidth * model.diagonal);
@@ -525,7 +623,7 @@ public:
     void add_families_of_discarded_samples() {
         std::vector<char> covered(size_t(mesh_.vertex_count()), 0);
         for (const SurfaceSignature& sample : votes_.discarded) {
-            const int seed = seed_vertex(model_.analysed(), sample);
+            const int seed = seed_vertex(model_, sample);
             if (covered[size_t(seed)]) continue;
             ContinuousFamily family = family_of_pruned_sample(sample, model_.radius, options_.flatness);
             family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, options_.continuous);
@@ -551,7 +649,7 @@ public:
             for (size_t v = 0; v < covered.size(); ++v) covered[v] |= flags[v];
         const double edge_length = median_edge_length(mesh_, model_.debris);
         for (const SurfaceSignature& sample : votes_.P) {
-            const int seed = seed_vertex(model_.analysed(), sample);
+            const int seed = seed_vertex(model_, sample);
             if (covered[size_t(seed)]) continue;
             ContinuousFamily family = cylinder_of_sample(sample, model_.radius, options_.flatness);
             if (family.kind == ContinuousKind::Discrete) continue;
@@ -1092,7 +1190,10 @@ void refuse_if_nothing_could_be_paired(const DetectionResult& result, const Dete
     // The radius grows beyond curvature_radius to hold min_radius_in_edges edges (or the
     // noise): on a mesh of a few large triangles (a 12-triangle cube) the ball then sees
     // the whole model, and no parameter helps but finer triangles.
-    if (result.curvature_radius > 1.01 * options.curvature_radius)
+    if (result.curvature_radius > 1.01 * options.curvature_radius && result.point_cloud)
+        s << "; the point cloud is too sparse for the curvature radius (its points lie far apart), so sample "
+          << "the surface more densely.";
+    else if (result.curvature_radius > 1.01 * options.curvature_radius)
         s << "; the mesh is too coarse for the curvature radius (its edges are long), so refine it first, e.g. "
           << "with Filters > Remeshing, Simplification and Reconstruction > Subdivision Surfaces: Midpoint "
           << "(pymeshlab: meshing_surface_subdivision_midpoint).";
@@ -1139,21 +1240,20 @@ void DetectionOptions::validate() const {
             "between 1 and 6 (the search grows exponentially with it)");
     require(within_fraction(basis_tolerance, 1), "basis_tolerance", basis_tolerance,
             "greater than 0 and at most the bounding-box diagonal");
+    const PointCloudOptions& c = point_cloud;
+    require(c.fitting_neighbours >= 3 && c.fitting_neighbours <= 100, "point_cloud.fitting_neighbours",
+            c.fitting_neighbours, "between 3 and 100");
+    for (int k : {c.orientation_neighbours, c.area_neighbours, c.graph_neighbours})
+        require(k >= 1 && k <= 100, "point_cloud's orientation, area and graph neighbours", k, "between 1 and 100");
 }
 
-DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
-                                          const DetectionOptions& options, const Progress& progress) {
-    options.validate();
-    auto report = [&](int percent, const char* stage) {
-        if (progress) progress(percent, stage);
-    };
-    DetectionResult result;
-    std::mt19937_64 rng(options.random_seed);
+namespace {
 
-    // §2, §2.1, §2.2: samples, signatures, pruning, pairs and their votes in Γ.
-    report(0, "Sampling and curvature signatures");
-    Model model;
-    prepare_model(V, F, options, report, model, result);
+// The pipeline from the prepared model on; `rows` is the number of input rows (vertices or
+// points) the per-vertex outputs are written for.
+DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const DetectionOptions& options,
+                                const std::function<void(int, const char*)>& report, DetectionResult result) {
+    std::mt19937_64 rng(options.random_seed);
     const Votes votes = vote(model, options, rng, result);
     const TransformationSpace space(model.center, model.diagonal);
     if (options.keep_transformation_space) keep_points(votes, space, result.transformation_space);
@@ -1162,10 +1262,13 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     report(45, "Mean-shift clustering in transformation space");
     Findings findings = search(model, votes, space, options, report, result);
     auto start = Clock::now();
-    const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.analysed());
+    const MeshNeighbourhoods neighbourhoods = neighbourhoods_of(model, options);
     const double tolerance = options.verification_tolerance * model.diagonal;
     std::unique_ptr<SurfaceQuery> input_surface;
-    if (model.measured_apart()) input_surface = std::make_unique<SurfaceQuery>(model.input);
+    if (!model.cloud_input.empty())
+        input_surface = std::make_unique<SurfaceQuery>(model.cloud_input, model.cloud->normals(), model.cloud_areas.disc_radius);
+    else if (model.measured_apart())
+        input_surface = std::make_unique<SurfaceQuery>(model.input);
     std::vector<VerifiedSymmetry> reported;
     std::vector<int> supports;
     std::vector<const ContinuousFamily*> family_of;
@@ -1215,8 +1318,8 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     result.generator_count = int(basis.generators.size());
 
     // Outputs in the input's vertex numbering.
-    result.vertex_deviation.assign(size_t(V.rows()), 0.0);
-    result.vertex_symmetry_id.assign(size_t(V.rows()), -1);
+    result.vertex_deviation.assign(size_t(rows), 0.0);
+    result.vertex_symmetry_id.assign(size_t(rows), -1);
     int discrete_index = 0;
     for (size_t rank = 0; rank < order.size(); ++rank) {
         const size_t k = order[rank];
@@ -1244,6 +1347,35 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
     write_to_welded_rows(model, result);
     report(100, "Done");
     return result;
+}
+
+}  // namespace
+
+DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                                          const DetectionOptions& options, const Progress& progress) {
+    options.validate();
+    auto report = [&](int percent, const char* stage) {
+        if (progress) progress(percent, stage);
+    };
+    DetectionResult result;
+    // §2, §2.1, §2.2: samples, signatures, pruning, pairs and their votes in Γ.
+    report(0, "Sampling and curvature signatures");
+    Model model;
+    prepare_model(V, F, options, report, model, result);
+    return detect_on_model(model, V.rows(), options, report, std::move(result));
+}
+
+DetectionResult detect_partial_symmetries_in_point_cloud(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N,
+                                                         const DetectionOptions& options, const Progress& progress) {
+    options.validate();
+    auto report = [&](int percent, const char* stage) {
+        if (progress) progress(percent, stage);
+    };
+    DetectionResult result;
+    report(0, "Normals, sampling and curvature of the point cloud");
+    Model model;
+    prepare_cloud_model(V, N, options, model, result);
+    return detect_on_model(model, V.rows(), options, report, std::move(result));
 }
 
 void require_result_of_mesh(const DetectionResult& detected, Eigen::Index rows) {

@@ -9,6 +9,7 @@
 #include "denoising.h"
 #include "mesh.h"
 #include "pairing.h"
+#include "point_cloud.h"
 #include "sample_size.h"
 #include "transformation_space.h"
 #include "verification.h"
@@ -95,6 +96,7 @@ struct DetectionOptions {
     VerificationOptions verification;
     CurvatureAgreementOptions agreement;      ///< second-order verification (beyond §4)
     ContinuousFamilyOptions continuous;       ///< continuous families (beyond the paper)
+    PointCloudOptions point_cloud;            ///< normals, areas and neighbours of a point cloud
 
     /// Throws InputError, with a sentence naming the parameter, for values outside their range.
     void validate() const;
@@ -148,6 +150,8 @@ struct DetectionResult {
     int verified_candidates = 0;   ///< clusters that went through region growing
     int skipped_members = 0;       ///< clusters skipped as members of a continuous family found before
     int working_vertices = 0;      ///< vertices of the simplified copy analysed; 0 when the input itself was
+    bool point_cloud = false;      ///< the input was a point cloud (detect_partial_symmetries_in_point_cloud)
+    bool normals_estimated = false;  ///< ...whose normals were estimated, as it gave none
     int welded_vertices = 0;       ///< vertices welded onto another at the same position (a triangle soup)
     int flipped_faces = 0;         ///< faces turned to orient the surface coherently and outward
     bool orientable = true;        ///< false: some component could not be oriented, and was analysed as it came
@@ -173,6 +177,14 @@ using Progress = std::function<void(int percent, const char* stage)>;
 /// Throws InputError for unusable input or parameters; the input is never modified.
 DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
                                           const DetectionOptions& options, const Progress& progress = {});
+
+/// Runs the pipeline on a point cloud (V: #V by 3 positions; N: #V by 3 normals, or no
+/// rows, and they are estimated as MeshLab's point-set filter does).  Curvature comes from
+/// a local fit and verification grows over the k-nearest-neighbour graph (point_cloud.h);
+/// the per-vertex outputs are per point.  A cloud is analysed at its own resolution: one
+/// above working.max_vertices points is refused (simplify it first).
+DetectionResult detect_partial_symmetries_in_point_cloud(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N,
+                                                         const DetectionOptions& options, const Progress& progress = {});
 
 /// For the uses of a result (symmetrization, reduction): throws InputError unless `detected`
 /// fits a mesh of `rows` vertices (its per-vertex outputs and patches are rows of that V).

@@ -18,7 +18,8 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
     if (V.rows() == 0)
         throw InputError("The mesh is empty: it has no vertices.");
     if (F.rows() == 0)
-        throw InputError("The mesh has no faces: symmetry detection needs a triangle mesh, not a point cloud. "
+        throw InputError("The mesh has no faces: this needs a triangle mesh, not a point cloud (symmetry detection itself runs "
+                         "on a point cloud). "
                          "Reconstruct a surface first with Filters > Remeshing, Simplification and Reconstruction > "
                          "Surface Reconstruction: Screened Poisson (pymeshlab: "
                          "generate_surface_reconstruction_screened_poisson; a cloud without normals needs "

@@ -71,6 +71,23 @@ void neighbour_graph(const std::vector<Eigen::Vector3d>& points, int k, std::vec
     }
 }
 
+std::vector<SurfaceSample> area_weighted_points(const std::vector<Eigen::Vector3d>& points,
+                                                const std::vector<double>& areas, int count, std::mt19937_64& rng) {
+    std::vector<SurfaceSample> samples;
+    double total = 0;
+    for (double a : areas) total += a;
+    if (count <= 0 || points.empty() || !(total > 0)) return samples;
+    const double step = total / count;
+    double next = step * (double(rng() >> 11) * 0x1.0p-53), reached = 0;  // one offset in [0, step)
+    for (size_t i = 0; i < points.size(); ++i) {
+        reached += areas[i];
+        if (next >= reached) continue;
+        samples.push_back({points[i], int(i)});
+        while (next < reached) next += step;  // a point larger than a step is drawn once
+    }
+    return samples;
+}
+
 PointAreas point_areas(const std::vector<Eigen::Vector3d>& points, const PointCloudOptions& options) {
     PointAreas out;
     const KdTree tree(as_rows(points));
@@ -196,12 +213,38 @@ PointCloudSurface::PointCloudSurface(std::vector<Eigen::Vector3d> points, std::v
         throw InputError("A point cloud needs one normal per point.");
 }
 
+std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> PointCloudSurface::projected_on_local_fits(
+    double radius, const LocalFitOptions& options) const {
+    std::vector<Eigen::Vector3d> moved(points_), turned(normals_);
+    // Each point writes only its own entries: the same result at any thread count.
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long i = 0; i < long(points_.size()); ++i) {
+        const Eigen::Vector3d& p = points_[size_t(i)];
+        const Eigen::Vector3d& n = normals_[size_t(i)];
+        const std::vector<int> ball = tree_.radius_search(p.data(), radius);
+        if (int(ball.size()) < std::max(6, options.min_points)) continue;
+        const HeightFit fit = fit_height(points_, ball, p, n, radius);
+        const auto& c = fit.coefficients;
+        const Eigen::Vector3d normal = (n - c(3) * fit.t1 - c(4) * fit.t2).normalized();
+        if (!c.allFinite() || !normal.allFinite() || normal.dot(n) < 0.5) continue;
+        moved[size_t(i)] = p + c(5) * n;
+        turned[size_t(i)] = normal;
+    }
+    return {std::move(moved), std::move(turned)};
+}
+
 SurfaceSignature PointCloudSurface::fit_signature(int index, double radius, const LocalFitOptions& options) const {
+    SurfaceSignature out = fit_at(points_[size_t(index)], normals_[size_t(index)], radius, options);
+    out.face = index;
+    return out;
+}
+
+SurfaceSignature PointCloudSurface::fit_at(const Eigen::Vector3d& p, const Eigen::Vector3d& start_normal,
+                                           double radius, const LocalFitOptions& options) const {
     SurfaceSignature out;
-    const Eigen::Vector3d& p = points_[size_t(index)];
     out.position = p;
     out.area = M_PI * radius * radius;
-    Eigen::Vector3d normal = normals_[size_t(index)];
+    Eigen::Vector3d normal = start_normal;
     Eigen::Vector3d t1, t2;
     tangent_basis(normal, t1, t2);
     out.normal = normal;

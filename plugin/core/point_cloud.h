@@ -19,6 +19,7 @@
 #include "signatures.h"
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 namespace symmetry {
@@ -32,6 +33,12 @@ struct PointCloudOptions {
     /// Neighbours that set the surface a point stands for: pi d^2 / k, with d the distance
     /// to its k-th nearest neighbour, and the radius d of its disc (SurfaceQuery).
     int area_neighbours = 8;
+    /// Neighbours of a point in the graph region growing walks (cloud_neighbourhoods).
+    int graph_neighbours = 8;
+    /// A cloud whose estimated noise exceeds this many point spacings (median neighbour
+    /// distances) is presmoothed (PointCloudSurface::projected_on_local_fits); a mesh's
+    /// threshold is DenoisingOptions::noise_threshold_in_edges.
+    double noise_threshold_in_spacings = 0.05;
 };
 
 struct LocalFitOptions {
@@ -57,6 +64,12 @@ struct PointAreas {
 };
 PointAreas point_areas(const std::vector<Eigen::Vector3d>& points, const PointCloudOptions& options = {});
 
+/// Stage 1 on a cloud: `count` of its points drawn with probability proportional to the
+/// area each stands for (systematic sampling along the cumulative area, from one random
+/// offset), each once; `face` is the point's index.  Deterministic for a given `rng` state.
+std::vector<SurfaceSample> area_weighted_points(const std::vector<Eigen::Vector3d>& points,
+                                                const std::vector<double>& areas, int count, std::mt19937_64& rng);
+
 /// A cloud as the local fit reads it: positions, outward unit normals and a kd-tree.
 class PointCloudSurface {
 public:
@@ -74,6 +87,18 @@ public:
     /// in the ball the curvatures are 0 and the frame is the point's normal with any
     /// tangent basis.
     SurfaceSignature fit_signature(int index, double radius, const LocalFitOptions& options = {}) const;
+    /// The same fit at any `position` near the cloud, starting from the unit `normal` (of
+    /// a point near it).
+    SurfaceSignature fit_at(const Eigen::Vector3d& position, const Eigen::Vector3d& normal, double radius,
+                            const LocalFitOptions& options = {}) const;
+
+    /// Presmoothing of a noisy cloud (denoising.h does it for a mesh): every point moved
+    /// along its normal onto the quadric fitted to the points within `radius` of it (one
+    /// pass, a moving-least-squares projection), and given that quadric's normal.  A
+    /// quadric, not a plane, so that the smoothing keeps the curvature the signatures
+    /// measure.  Returns the moved points and their normals.
+    std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> projected_on_local_fits(
+        double radius, const LocalFitOptions& options = {}) const;
 
 private:
     std::vector<Eigen::Vector3d> points_;

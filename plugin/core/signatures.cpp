@@ -1,6 +1,7 @@
 #include "signatures.h"
 
 #include "kd_tree.h"
+#include "point_cloud.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -226,6 +227,7 @@ struct CurvatureEstimator::Data {
 // per-face and per-edge stamps that list each once without clearing.
 std::unique_ptr<CurvatureEstimator::Workspace> CurvatureEstimator::workspace() const {
     auto w = std::make_unique<Workspace>();
+    if (cloud_) return w;  // the local fit needs none
     w->stamp.assign(data_->faces.size(), -1);
     w->edge_stamp.assign(data_->edges.size(), -1);
     w->ball_faces.reserve(256);
@@ -261,6 +263,8 @@ CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_uniqu
     own_ = workspace();
 }
 
+CurvatureEstimator::CurvatureEstimator(const PointCloudSurface& cloud) : cloud_(&cloud) { own_ = workspace(); }
+
 CurvatureEstimator::~CurvatureEstimator() = default;
 
 SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radius) const {
@@ -271,6 +275,11 @@ SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radi
 // The estimate itself (the radius is checked by the callers: nothing here throws, so it
 // may run inside a parallel loop).
 SurfaceSignature CurvatureEstimator::at(const SurfaceSample& sample, double radius, Workspace& w) const {
+    if (cloud_) {
+        SurfaceSignature out = cloud_->fit_at(sample.position, cloud_->normals()[size_t(sample.face)], radius);
+        out.face = sample.face;
+        return out;
+    }
     const Data& d = *data_;
     const int s = w.next_stamp++;
     SurfaceSignature out;

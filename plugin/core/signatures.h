@@ -45,6 +45,8 @@ std::vector<SurfaceSignature> compute_signatures(const Mesh& mesh, const std::ve
 /// mesh once.  An estimate needs work space (which faces and edges the ball met): `at`
 /// without one uses the estimator's own, so it serves one thread; threads that share an
 /// estimator each bring a Workspace of their own.
+class PointCloudSurface;
+
 class CurvatureEstimator {
 public:
     /// Which faces and edges the ball met (stamps, so that nothing is cleared between estimates).
@@ -54,6 +56,9 @@ public:
         int next_stamp = 0;
     };
     explicit CurvatureEstimator(const Mesh& mesh);  ///< the mesh must outlive the estimator
+    /// On a point cloud the estimate is its local fit (point_cloud.h), at a sample whose
+    /// `face` is the index of a point near it; the cloud must outlive the estimator.
+    explicit CurvatureEstimator(const PointCloudSurface& cloud);
     ~CurvatureEstimator();
     SurfaceSignature at(const SurfaceSample& sample, double radius) const;
     SurfaceSignature at(const SurfaceSample& sample, double radius, Workspace& workspace) const;
@@ -63,6 +68,7 @@ private:
     struct Data;
     std::unique_ptr<Data> data_;
     std::unique_ptr<Workspace> own_;
+    const PointCloudSurface* cloud_ = nullptr;
 };
 
 /// compute_signatures with an estimator already built on the mesh, for estimates at

@@ -91,6 +91,8 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["clusters"] = QVariant(r.clusters);
 	out["verified_clusters"] = QVariant(r.verified_candidates);
 	out["working_vertices"] = QVariant(r.working_vertices);
+	out["point_cloud"] = QVariant(r.point_cloud);
+	out["normals_estimated"] = QVariant(r.normals_estimated);
 	out["welded_vertices"] = QVariant(r.welded_vertices);
 	out["flipped_faces"] = QVariant(r.flipped_faces);
 	out["noise"] = QVariant(r.noise);
@@ -168,8 +170,9 @@ FilterPlugin::FilterArity FilterSymmetryPlugin::filterArity(const QAction* actio
 int FilterSymmetryPlugin::getPreConditions(const QAction*) const
 {
 	// No MM_FACENUMBER: with it, MeshLab greys the entry out on a point cloud and pymeshlab
-	// answers "Current mesh does not have Any Faces."; without it, the core refuses a point
-	// cloud with a sentence naming the reconstruction filters that make it a surface.
+	// answers "Current mesh does not have Any Faces."  Detection runs on a point cloud; the
+	// uses of a result (symmetrization, reduction, editing, segmentation) refuse one with a
+	// sentence naming the reconstruction filters that make it a surface.
 	return MeshModel::MM_NONE;
 }
 
@@ -219,7 +222,7 @@ std::map<std::string, QVariant> FilterSymmetryPlugin::detectPartialSymmetries(
 	MeshModel* input = md.mm();
 	if (input == nullptr)
 		throw MLException("There is no current mesh to detect symmetries on.");
-	const Detection detection = symmetry_host::runDetection(input->cm, parameters, progressOf(cb), 100);
+	const Detection detection = symmetry_host::runDetection(input->cm, parameters, progressOf(cb), 100, true);
 	// Detection succeeded: from here on the document is written.
 	const std::vector<int> layerIds = symmetry_host::writeDetection(
 		md, *input, detection, symmetry_parameters::createPatchLayers(parameters));

@@ -407,8 +407,26 @@ QString wordText(const symmetry::Word& word)
 	return letters.isEmpty() ? QString("identity") : letters.join(" ");
 }
 
+namespace {
+
+/// The normals of a point cloud's rows, or no rows when some vertex has none (zero or not
+/// finite): the core then estimates them all.
+Eigen::MatrixX3d cloudNormals(const HostMesh& h)
+{
+	Eigen::MatrixX3d N(Eigen::Index(h.vertexOfRow.size()), 3);
+	for (size_t r = 0; r < h.vertexOfRow.size(); ++r) {
+		const auto& n = h.vertexOfRow[r]->cN();
+		N.row(Eigen::Index(r)) << double(n[0]), double(n[1]), double(n[2]);
+		if (!N.row(Eigen::Index(r)).allFinite() || !(N.row(Eigen::Index(r)).norm() > 0))
+			return Eigen::MatrixX3d(0, 3);
+	}
+	return N;
+}
+
+}  // namespace
+
 Detection runDetection(CMeshO& m, const RichParameterList& parameters, const symmetry::Progress& report,
-                       int progressEnd)
+                       int progressEnd, bool pointCloudAllowed)
 {
 	Detection d;
 	callCore("Symmetry detection", [&] {
@@ -422,7 +440,11 @@ Detection runDetection(CMeshO& m, const RichParameterList& parameters, const sym
 			if (report)
 				report(std::clamp(percent, 0, 100) * progressEnd / 100, stage);
 		};
-		d.result = symmetry::detect_partial_symmetries(d.host.V, d.host.F, d.options, progress);
+		if (pointCloudAllowed && d.host.F.rows() == 0 && d.host.V.rows() > 0)
+			d.result = symmetry::detect_partial_symmetries_in_point_cloud(d.host.V, cloudNormals(d.host), d.options,
+			                                                              progress);
+		else
+			d.result = symmetry::detect_partial_symmetries(d.host.V, d.host.F, d.options, progress);
 		checkResult(d.result, d.host.V.rows(), d.options);
 	});
 	return d;
@@ -493,6 +515,14 @@ QStringList detectionLog(const Detection& d)
 	if (!result.orientable)
 		lines << "The mesh is not orientable (a Moebius band, or faces folded through non-manifold edges): it was "
 		         "analysed with its faces as they are, and symmetries where the orientation changes may be missed.";
+	if (result.point_cloud)
+		lines << QString::asprintf(
+			"The mesh is a point cloud of %d points: curvature came from a fit to the points around each sample, "
+			"verification grew over each point's %d nearest neighbours, and the normals were %s.",
+			int(host.V.rows()), options.point_cloud.graph_neighbours,
+			result.normals_estimated ? "estimated from the points (as Normals, Curvatures and Orientation > "
+			                           "Compute normals for point sets does, then turned outward)"
+			                         : "the cloud's own");
 	if (result.working_vertices > 0)
 		lines << QString::asprintf(
 			"The mesh has %d vertices, more than the working resolution (max_working_vertices = %d): it was "

@@ -124,9 +124,12 @@ struct Detection {
 
 /// Runs the core's detection on `m` with the filter's parameters, reporting progress
 /// through `report` (may be empty) from 0 to `progressEnd` percent, on this thread.  Writes
-/// nothing.
+/// nothing.  With `pointCloudAllowed`, a mesh with vertices and no face is analysed as a
+/// point cloud, with its own normals when every vertex has one (MeshLab keeps zero normals
+/// for a cloud read without any) and with normals estimated otherwise; without, the core
+/// refuses it, saying how to make a surface of it.
 Detection runDetection(CMeshO& m, const RichParameterList& parameters, const symmetry::Progress& report,
-                       int progressEnd);
+                       int progressEnd, bool pointCloudAllowed = false);
 
 /// Writes a successful detection into the document: quality and colour of the input's
 /// vertices, the `symmetry_id` attribute and, if `createLayers`, the layers

@@ -139,7 +139,7 @@ void FilterSymmetryPlugin::detectPartialSymmetries(MeshDocument& md, const RichP
 	MeshModel* input = md.mm();
 	if (input == nullptr)
 		throw MLException("There is no current mesh to detect symmetries on.");
-	const symmetry_host::Detection detection = symmetry_host::runDetection(input->cm, parameters, progressOf(cb), 100);
+	const symmetry_host::Detection detection = symmetry_host::runDetection(input->cm, parameters, progressOf(cb), 100, true);
 	// Detection succeeded: from here on the document is written.
 	symmetry_host::writeDetection(md, *input, detection, symmetry_parameters::createPatchLayers(parameters));
 	for (const QString& line : symmetry_host::detectionLog(detection))

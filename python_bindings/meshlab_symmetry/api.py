@@ -144,7 +144,8 @@ def detect(
     Raises FileNotFoundError for a missing file, ValueError or TypeError for a mesh or a
     parameter this function cannot pass on, OSError for a file whose header asks for more
     memory than there is, and pymeshlab.PyMeshLabException with the filter's sentence for
-    a mesh it cannot analyse (a point cloud, NaN coordinates, a parameter out of range).
+    a mesh it cannot analyse (NaN coordinates, a point cloud of a few points, a parameter
+    out of range).  A point cloud (vertices, no faces) is analysed as one.
 
     ``engine`` is "filter" (the MeshLab filter through pymeshlab, as a filter script runs
     it) or "core" (the compiled core without pymeshlab in the loop: the same result for
@@ -287,8 +288,7 @@ def _private_meshset(mesh: MeshInput) -> pymeshlab.MeshSet:
 
 def _mesh_from_arrays(vertices: npt.ArrayLike, faces: npt.ArrayLike) -> pymeshlab.Mesh:
     """A pymeshlab.Mesh of the arrays, checked first: pymeshlab would read past the vertex
-    array for a face index out of range.  No faces gives a point cloud, which the filter
-    refuses with its own sentence."""
+    array for a face index out of range.  No faces gives a point cloud."""
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces)
     if v.ndim != 2 or v.shape[1] != 3:

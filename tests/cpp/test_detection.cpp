@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <Eigen/Geometry>
 
 using namespace symmetry;
@@ -70,6 +72,39 @@ TEST(Detection, FindsAPlantedRigidCopy) {
     // Every vertex listed in a patch carries that patch's id or a more significant one.
     for (size_t k = 0; k < result.symmetries.size(); ++k)
         for (int v : result.symmetries[k].source_vertices) EXPECT_LE(result.vertex_symmetry_id[v], int(k));
+}
+
+// The same scene as a point cloud (the vertices of both tessellations, no faces, no
+// normals) with noise of 0.1 % of the diagonal on every coordinate: the normals are
+// estimated, the cloud presmoothed, and the planted copy is found over the neighbour graph,
+// with its patch.
+TEST(Detection, FindsAPlantedRigidCopyInANoisyPointCloud) {
+    Scene scene = rigid_copy_scene();
+    std::mt19937_64 rng(2);
+    std::normal_distribution<double> noise(0, 0.001);
+    const double scene_diagonal = (scene.shape.V.colwise().maxCoeff() - scene.shape.V.colwise().minCoeff()).norm();
+    Eigen::MatrixX3d cloud = scene.shape.V;
+    for (Eigen::Index i = 0; i < cloud.rows(); ++i)
+        for (int k = 0; k < 3; ++k) cloud(i, k) += scene_diagonal * noise(rng);
+    DetectionOptions options;
+    DetectionResult result = detect_partial_symmetries_in_point_cloud(cloud, Eigen::MatrixX3d(0, 3), options);
+    const double diagonal = (cloud.colwise().maxCoeff() - cloud.colwise().minCoeff()).norm();
+    Eigen::MatrixX3d base = scene.shape.V.topRows(scene.base_vertices);
+    bool found = false;
+    for (const auto& s : result.symmetries) {
+        const double forward = displacement(s.transform, scene.planted, base);
+        const double backward = displacement(s.transform.inverse(), scene.planted, base);
+        if (std::min(forward, backward) < 0.005 * diagonal) {
+            found = true;
+            EXPECT_GT(s.source_area, 0.4);
+            EXPECT_GT(s.source_vertices.size(), 0.8 * double(std::min<Eigen::Index>(scene.base_vertices,
+                                                                                 cloud.rows() - scene.base_vertices)));
+        }
+    }
+    EXPECT_TRUE(found) << result.symmetries.size() << " symmetries reported";
+    EXPECT_TRUE(result.point_cloud && result.normals_estimated);
+    EXPECT_GT(result.smoothing_radius, 0);
+    ASSERT_EQ(result.vertex_symmetry_id.size(), size_t(cloud.rows()));
 }
 
 TEST(Detection, DeterministicForASeed) {

@@ -515,8 +515,9 @@ def test_cli_help_lists_every_filter_parameter():
 
 
 def point_cloud_file(directory):
+    """Eight points: too few for the normals of a point cloud."""
     path = directory / "cloud.ply"
-    make_meshset(np.random.default_rng(1).random((30, 3))).save_current_mesh(str(path))
+    make_meshset(np.random.default_rng(1).random((8, 3))).save_current_mesh(str(path))
     return str(path)
 
 
