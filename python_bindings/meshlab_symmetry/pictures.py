@@ -308,6 +308,26 @@ def _draw_elements(ax, s: Symmetry, colour, vertices: np.ndarray) -> list[np.nda
     return []
 
 
+def _patch_handles(result: SymmetryResult, shown: int) -> list:
+    handles = [Patch(color=PALETTE[s.index], label=symmetry_label(s)) for s in result.symmetries[:shown]]
+    if len(result.symmetries) > shown:
+        handles.append(Patch(color=(0.75, 0.75, 0.75), label=f"{len(result.symmetries) - shown} more (grey)"))
+    return handles
+
+
+def _cloud_patches_picture(drawn: _DrawnMesh, result: SymmetryResult, shown: int, path: str,
+                           view: tuple[float, float]) -> Picture:
+    """patches_picture for a point cloud: its points as dots in their patch's colour."""
+    symmetry = _vertex_symmetry(result, shown)[drawn.input_vertex]
+    rgb = np.array(PALETTE + [(0.75, 0.75, 0.75)])[np.where(symmetry < 0, COLOURED_SYMMETRIES, symmetry)]
+    fig = _new_figure(f"Symmetric patches of a point cloud ({_count(result)})")
+    ax = _mesh_axes(fig, drawn.vertices, view)
+    ax.scatter(*drawn.vertices.T, c=rgb, s=1.5, depthshade=False, linewidths=0)
+    legend = fig.legend(handles=_patch_handles(result, shown), loc="center left", bbox_to_anchor=(0.66, 0.5),
+                        fontsize=9, title="patches: source and target")
+    return _save(fig, path, _plot_box(ax), [t.get_text() for t in legend.get_texts()])
+
+
 def patches_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
                     view: tuple[float, float] = (20.0, -60.0)) -> Picture:
     """The mesh coloured by patch: the source and target patch of each of the first
@@ -318,6 +338,8 @@ def patches_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
     a legend gives each one's kind, angle and source area."""
     drawn = _drawn_mesh(mesh, result)
     shown = min(len(result.symmetries), COLOURED_SYMMETRIES)
+    if len(drawn.faces) == 0:
+        return _cloud_patches_picture(drawn, result, shown, path, view)
     face_symmetry = drawn.face_values(_vertex_symmetry(result, shown))
     face_symmetry = np.where(face_symmetry < 0, COLOURED_SYMMETRIES, face_symmetry).min(axis=1)
     rgb = np.array(PALETTE + [(0.75, 0.75, 0.75)])[face_symmetry]
@@ -330,9 +352,7 @@ def patches_picture(mesh: MeshInput, result: SymmetryResult, path: str, *,
             tiles.append(t)
             rgba.append(np.tile((*PALETTE[s.index], 0.28), (len(t), 1)))
     _add_surface(ax, np.concatenate(tiles), np.concatenate(rgba))
-    handles = [Patch(color=PALETTE[s.index], label=symmetry_label(s)) for s in result.symmetries[:shown]]
-    if len(result.symmetries) > shown:
-        handles.append(Patch(color=(0.75, 0.75, 0.75), label=f"{len(result.symmetries) - shown} more (grey)"))
+    handles = _patch_handles(result, shown)
     kinds = {s.kind for s in result.symmetries[:shown]}
     if kinds & set(AXIS_KINDS):
         handles.append(Line2D([], [], color="k", ls="--", label="dashed: rotation axis"))

@@ -138,6 +138,28 @@ def test_meshlabserver_finds_the_planted_mirror_and_saves_quality(installed_plug
     assert np.all(quality[~in_symmetry] == 0)
 
 
+def test_meshlabserver_finds_the_planted_mirror_in_the_scene_as_a_point_cloud(installed_plugin, mirrored_scene,
+                                                                              tmp_path):
+    """The same batch job on the scene's vertices alone (a PLY of points, no normals): the
+    2020.09 host analyses it as a point cloud, says so in the log, and finds the mirror."""
+    scene, _ = mirrored_scene
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=scene.vertices), "cloud")
+    path = tmp_path / "cloud.ply"
+    ms.save_current_mesh(str(path), save_vertex_normal=False)
+    run, out = _meshlabserver(tmp_path, path, meshlabserver_script(scene.diagonal))
+    log = run.stdout + run.stderr
+    assert run.returncode == 0 and out.exists(), log[-3000:]
+    assert "is a point cloud of %d points" % len(scene.vertices) in log, log[-3000:]
+    logged = _logged_symmetries(log)
+    k, distance = metrics.match_planted(scene, [T for _, T in logged], scene.symmetries[0])
+    assert k >= 0, f"no logged transform within {metrics.RECALL_TOL} of the planted mirror (best {distance:.4f})"
+    saved = pymeshlab.MeshSet()
+    saved.load_new_mesh(str(out))
+    assert saved.current_mesh().vertex_number() == len(scene.vertices)
+    assert np.count_nonzero(saved.current_mesh().vertex_scalar_array()) > 0.5 * len(scene.vertices)
+
+
 def test_meshlabserver_reduction_saves_one_copy_and_writes_the_instances(installed_plugin, mirrored_scene, tmp_path):
     """Symmetry-Based Reduction in a batch job: the saved mesh is the reduced one (the
     filter makes it current), about one of the two mirrored copies, and the instances file

@@ -10,6 +10,7 @@ import sys
 import numpy as np
 import pymeshlab
 import pytest
+from PIL import Image
 
 import meshlab_symmetry
 from conftest import assert_mesh_unchanged, has_vertex_attribute, mesh_snapshot
@@ -77,6 +78,21 @@ def test_patch_layers_and_symmetry_id_are_per_point(requires_pipeline):
     held = {tuple(p) for p in np.round(source.vertex_matrix(), 9)}
     labelled = {tuple(p) for p in np.round(cloud.vertex_matrix()[ids == 0], 9)}
     assert held <= labelled
+
+
+def test_the_patches_picture_draws_a_cloud_as_dots_in_its_patches_colour(requires_pipeline, tmp_path):
+    """detect() takes (points, no faces), and patches_picture draws the cloud's points, those
+    of the mirror's patches in the first palette colour."""
+    scene = scenes.make_scene("mirrored", 0)
+    cloud = (scene.vertices, np.zeros((0, 3), int))
+    result = meshlab_symmetry.detect(cloud)
+    assert result.work["point_cloud"] and len(result.symmetries) >= 1
+    picture = meshlab_symmetry.patches_picture(cloud, result, str(tmp_path / "cloud.png"))
+    assert picture.legend[0].startswith("#0 ")
+    left, top, right, bottom = picture.plot_box
+    rgb = np.asarray(Image.open(picture.path).convert("RGB"))[top:bottom, left:right].reshape(-1, 3).astype(float)
+    blue = np.array(meshlab_symmetry.pictures.PALETTE[0]) * 255
+    assert np.mean(np.abs(rgb - blue).max(axis=1) < 40) > 0.02
 
 
 @pytest.mark.parametrize("normals", [False, True], ids=["no_normals", "normals"])
