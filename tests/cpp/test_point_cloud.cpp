@@ -58,6 +58,14 @@ void add_noise(std::vector<Eigen::Vector3d>& points, double sigma, std::mt19937_
     for (Eigen::Vector3d& p : points) p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
 }
 
+// 20,000 points of the unit sphere with Gaussian noise of `sigma` on every coordinate.
+std::vector<Eigen::Vector3d> noisy_unit_sphere(double sigma, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<Eigen::Vector3d> points = sphere_cloud(1.0, 20000);
+    add_noise(points, sigma, rng);
+    return points;
+}
+
 int index_nearest(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& q) {
     int best = 0;
     for (size_t i = 0; i < points.size(); ++i)
@@ -146,10 +154,8 @@ TEST(PointCloud, ASaddleHasOppositeCurvaturesAlongItsAxes) {
 // Noise of 0.2 % of the diagonal on a sphere: the ball (a tenth of the diagonal) averages it
 // out, as the mesh's tensor does at that radius.
 TEST(PointCloud, NoiseOfAFifthOfAPercentLeavesTheCurvatureWithinAFewPercent) {
-    std::mt19937_64 rng(5);
-    std::vector<Eigen::Vector3d> points = sphere_cloud(1.0, 20000);
     const double diagonal = 2 * std::sqrt(3.0);
-    add_noise(points, 0.002 * diagonal, rng);
+    const std::vector<Eigen::Vector3d> points = noisy_unit_sphere(0.002 * diagonal, 5);
     const PointCloudSurface cloud(points, estimate_point_normals(points));
     double sum = 0, worst = 0;
     int n = 0;
@@ -166,10 +172,8 @@ TEST(PointCloud, NoiseOfAFifthOfAPercentLeavesTheCurvatureWithinAFewPercent) {
 // a ball of a tenth of the diagonal, is at most a third of what it was, and the normals of
 // the fits point along the radius.
 TEST(PointCloud, ProjectionOnLocalFitsTakesMostOfTheNoiseAway) {
-    std::mt19937_64 rng(7);
-    std::vector<Eigen::Vector3d> points = sphere_cloud(1.0, 20000);
     const double diagonal = 2 * std::sqrt(3.0);
-    add_noise(points, 0.002 * diagonal, rng);
+    const std::vector<Eigen::Vector3d> points = noisy_unit_sphere(0.002 * diagonal, 7);
     const PointCloudSurface cloud(points, estimate_point_normals(points));
     const auto [moved, normals] = cloud.projected_on_local_fits(0.1 * diagonal);
     auto rms_off_sphere = [](const std::vector<Eigen::Vector3d>& p) {
