@@ -56,15 +56,22 @@ struct Model {
     double noise = 0;   // estimated noise (denoising.h), absolute units
     DebrisRule debris;  // which connected components are specks (region_growing.h)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
-    // A point cloud: its points (presmoothed if noisy), outward normals and kd-tree
-    // (point_cloud.h), and the area each point stands for and its disc.  `input` then holds
-    // the points alone; no copy of it is simplified.
+    // A point cloud: the points the stages see (a large cloud's working subset, presmoothed
+    // if noisy), their outward normals and kd-tree (point_cloud.h), and the area each point
+    // stands for and its disc.  `input` then holds the points alone, and `working` the
+    // subset's.  Where the stages saw other points than the input's, deviations are measured
+    // on the input's own points, normals and discs (`measured_on`).
     std::unique_ptr<PointCloudSurface> cloud;
     PointAreas cloud_areas;
-    std::vector<Eigen::Vector3d> cloud_input;  // a presmoothed cloud's own points, where it is measured
+    struct CloudSurface {
+        std::vector<Eigen::Vector3d> points, normals;
+        std::vector<double> disc_radius;
+    } measured_on;
+    bool cloud_presmoothed = false;
     const Mesh& resolved() const { return working ? *working : input; }
     const Mesh& analysed() const { return smoothed ? *smoothed : resolved(); }
-    bool measured_apart() const { return working || smoothed || !cloud_input.empty(); }
+    bool measured_apart() const { return working || smoothed || !measured_on.points.empty(); }
+    bool presmoothed() const { return smoothed || cloud_presmoothed; }
 };
 
 void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,
@@ -115,18 +122,37 @@ void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const D
     }
 }
 
+// A cloud of more than `limit` points is analysed on a Poisson-disk subset of about that
+// many (working_mesh.h), as a large mesh is on a simplified copy: `points` and `normals`
+// become the subset's, `working` holds it for carrying patches back to every point, and the
+// input's own points, normals and discs are kept to measure deviations on.
+void thin_to_working_subset(int limit, const DetectionOptions& options, Model& model, std::vector<Eigen::Vector3d>& points,
+                            std::vector<Eigen::Vector3d>& normals) {
+    const PointAreas areas = point_areas(points, options.point_cloud);
+    const double area = std::accumulate(areas.area.begin(), areas.area.end(), 0.0);
+    const std::vector<int> subset = poisson_disk_subset(model.input, limit, area, unsigned(options.random_seed), options.working);
+    model.measured_on = {points, normals, areas.disc_radius};
+    std::vector<Eigen::Vector3d> kept_points, kept_normals;
+    for (int i : subset) {
+        kept_points.push_back(points[size_t(i)]);
+        kept_normals.push_back(normals[size_t(i)]);
+    }
+    points = std::move(kept_points);
+    normals = std::move(kept_normals);
+    model.working = std::make_unique<Mesh>();
+    vcg::tri::Allocator<Mesh>::AddVertices(*model.working, points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+        model.working->vert[i].P() = vcg::Point3d(points[i].x(), points[i].y(), points[i].z());
+    model.working_vertex = nearest_vertices(model.input, *model.working);
+}
+
 // A point cloud as the stages see it (detect_partial_symmetries_in_point_cloud): the
 // points, their normals (estimated where the cloud has none), the area each stands for,
 // and the curvature ball, debris and noise as a mesh's, measured over the neighbour graph.
 void prepare_cloud_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N, const DetectionOptions& options,
-                         Model& model, DetectionResult& result) {
+                         const std::function<void(int, const char*)>& report, Model& model, DetectionResult& result) {
     if (V.rows() == 0) throw InputError("The point cloud is empty: it has no points.");
     if (!V.allFinite()) throw InputError("The point cloud has coordinates that are not finite numbers (NaN or infinity).");
-    const int limit = options.working.max_vertices;
-    if (limit > 0 && V.rows() > limit)
-        throw InputError("The point cloud has " + std::to_string(V.rows()) + " points, more than the " +
-                         std::to_string(limit) + " a cloud is analysed at (max_working_vertices): simplify it first "
-                         "(Filters > Sampling > Point Cloud Simplification).");
     std::vector<Eigen::Vector3d> points(size_t(V.rows()));
     for (Eigen::Index i = 0; i < V.rows(); ++i) points[size_t(i)] = V.row(i).transpose();
     std::vector<Eigen::Vector3d> normals;
@@ -154,6 +180,12 @@ void prepare_cloud_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N, c
     model.diagonal = model.input.bbox.Diag();
     if (!(model.diagonal > 0)) throw InputError("The point cloud's points all lie at one position.");
     model.center = Eigen::Vector3d(model.input.bbox.Center()[0], model.input.bbox.Center()[1], model.input.bbox.Center()[2]);
+    const int limit = options.working.max_vertices;
+    if (limit > 0 && V.rows() > limit) {
+        report(0, "Thinning the point cloud to the working resolution");
+        thin_to_working_subset(limit, options, model, points, normals);
+        result.working_vertices = model.working->vn;
+    }
     model.cloud_areas = point_areas(points, options.point_cloud);
     model.total_area = std::accumulate(model.cloud_areas.area.begin(), model.cloud_areas.area.end(), 0.0);
     model.cloud = std::make_unique<PointCloudSurface>(std::move(points), std::move(normals));
@@ -178,9 +210,13 @@ void prepare_cloud_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N, c
     result.curvature_radius = model.radius / model.diagonal;
     if (blur > 0) {
         const double radius = std::min(blur, model.radius);
-        model.cloud_input = model.cloud->points();
+        const bool measured_here = model.measured_on.points.empty();  // no working subset holds the input
+        if (measured_here) model.measured_on = {model.cloud->points(), {}, model.cloud_areas.disc_radius};
         auto [points, normals] = model.cloud->projected_on_local_fits(radius);
         model.cloud = std::make_unique<PointCloudSurface>(std::move(points), std::move(normals));
+        // The input's points under the normals of their fits: the raw normals are as noisy as the points.
+        if (measured_here) model.measured_on.normals = model.cloud->normals();
+        model.cloud_presmoothed = true;
         result.smoothing_radius = radius / model.diagonal;
     }
 }
@@ -501,7 +537,7 @@ public:
         vo_.min_patch_area = options.min_patch_area * model.total_area;
         vo_.large_patch_area = 0.5 * model.total_area;
         vo_.debris = model.debris;
-        if (model.smoothed || !model.cloud_input.empty()) vo_.noise = model.noise;
+        if (model.presmoothed()) vo_.noise = model.noise;
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;
         vo_.group = options.group;
@@ -1265,8 +1301,9 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
     const MeshNeighbourhoods neighbourhoods = neighbourhoods_of(model, options);
     const double tolerance = options.verification_tolerance * model.diagonal;
     std::unique_ptr<SurfaceQuery> input_surface;
-    if (!model.cloud_input.empty())
-        input_surface = std::make_unique<SurfaceQuery>(model.cloud_input, model.cloud->normals(), model.cloud_areas.disc_radius);
+    if (!model.measured_on.points.empty())
+        input_surface = std::make_unique<SurfaceQuery>(model.measured_on.points, model.measured_on.normals,
+                                                       model.measured_on.disc_radius);
     else if (model.measured_apart())
         input_surface = std::make_unique<SurfaceQuery>(model.input);
     std::vector<VerifiedSymmetry> reported;
@@ -1374,7 +1411,7 @@ DetectionResult detect_partial_symmetries_in_point_cloud(const Eigen::MatrixX3d&
     DetectionResult result;
     report(0, "Normals, sampling and curvature of the point cloud");
     Model model;
-    prepare_cloud_model(V, N, options, model, result);
+    prepare_cloud_model(V, N, options, report, model, result);
     return detect_on_model(model, V.rows(), options, report, std::move(result));
 }
 

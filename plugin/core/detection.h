@@ -181,8 +181,10 @@ DetectionResult detect_partial_symmetries(const Eigen::MatrixX3d& V, const Eigen
 /// Runs the pipeline on a point cloud (V: #V by 3 positions; N: #V by 3 normals, or no
 /// rows, and they are estimated as MeshLab's point-set filter does).  Curvature comes from
 /// a local fit and verification grows over the k-nearest-neighbour graph (point_cloud.h);
-/// the per-vertex outputs are per point.  A cloud is analysed at its own resolution: one
-/// above working.max_vertices points is refused (simplify it first).
+/// the per-vertex outputs are per point.  A cloud of more than working.max_vertices points
+/// is analysed on a Poisson-disk subset of about that many (working_mesh.h); patches reach
+/// every point from its nearest point of the subset, and deviations are measured on every
+/// point itself.
 DetectionResult detect_partial_symmetries_in_point_cloud(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N,
                                                          const DetectionOptions& options, const Progress& progress = {});
 

@@ -2,8 +2,12 @@
 
 #include "kd_tree.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
+#include <vcg/complex/algorithms/point_sampling.h>
 #include <vcg/container/simple_temporary_data.h>
 
 namespace symmetry {
@@ -89,6 +93,32 @@ std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, co
     std::vector<int> unused;
     build_mesh(V.topRows(n), F.topRows(m), *simplified, unused);
     return simplified;
+}
+
+std::vector<int> poisson_disk_subset(const Mesh& cloud, int target_points, double area, unsigned seed,
+                                     const WorkingMeshOptions& options) {
+    // vcglib takes the mesh by non-const reference (it updates its bounding box).
+    Mesh copy;
+    vcg::tri::Append<Mesh, Mesh>::MeshCopy(copy, const_cast<Mesh&>(cloud));
+    vcg::tri::UpdateBounding<Mesh>::Box(copy);
+    // A maximal Poisson-disk set of radius r holds about area / (1.2 r^2) points; the count
+    // falls as 1 / r^2, so each retry corrects r by the square root of the count's ratio.
+    // (vcglib's PoissonPruningExact brackets r from a tenth of the diagonal instead: measured
+    // on 200,000 points, 3.7 s.)
+    double radius = std::sqrt(area / (1.2 * target_points));
+    std::vector<Mesh::VertexPointer> kept;
+    for (int attempt = 0; attempt < options.poisson_attempts; ++attempt) {
+        // vcglib seeds its generator only for a nonzero seed; 0 would continue its global state.
+        vcg::tri::PoissonPruning(copy, kept, float(radius), seed + 1);
+        const double ratio = double(kept.size()) / target_points;
+        if (std::abs(ratio - 1) <= options.poisson_count_tolerance) break;
+        radius *= std::sqrt(ratio);
+    }
+    std::vector<int> indices;
+    indices.reserve(kept.size());
+    for (Mesh::VertexPointer v : kept) indices.push_back(int(vcg::tri::Index(copy, v)));
+    std::sort(indices.begin(), indices.end());
+    return indices;
 }
 
 std::vector<int> nearest_vertices(const Mesh& fine, const Mesh& coarse) {

@@ -6,7 +6,9 @@
 // analysed on a copy simplified by quadric edge collapse (Garland and Heckbert 1997, the
 // "Quadric Edge Collapse Decimation" of MeshLab, from vcglib), and only what is reported
 // is carried back to every input vertex: its patches, and its deviation measured on the
-// input surface itself.
+// input surface itself.  A large point cloud is likewise analysed on a subset of its points
+// chosen by Poisson-disk pruning (vcglib's, which MeshLab's "Point Cloud Simplification"
+// runs): evenly spread, so that every part of the surface keeps its share of points.
 #pragma once
 
 #include "mesh.h"
@@ -18,19 +20,31 @@ namespace symmetry {
 
 struct WorkingMeshOptions {
     /// An input with more vertices than this is analysed on a copy simplified to about this
-    /// many; 0 analyses every input at its own resolution.  At 50,000 vertices the mean edge
+    /// many (a point cloud: on about this many of its points); 0 analyses every input at its
+    /// own resolution.  At 50,000 vertices the mean edge
     /// is about 0.3 % of the diagonal of a compact model: several edges per verification
     /// tolerance and curvature radius at their defaults (1 %).
     int max_vertices = 50000;
     /// Collapses that would leave triangles of lower quality (radius ratio, 0..1) are
     /// penalised: vcglib's QualityThr, MeshLab's default.
     double min_triangle_quality = 0.3;
+    /// A point cloud's subset: the Poisson-disk radius is corrected this many times at most...
+    int poisson_attempts = 6;
+    /// ...until the subset holds max_vertices points within this fraction.
+    double poisson_count_tolerance = 0.05;
 };
 
 /// A copy of `input` simplified to about `target_vertices` vertices by quadric edge
 /// collapse that preserves the topology (no handles or components appear or vanish) and
 /// flips no face normal by more than 45 degrees, with the same setup as build_mesh gives.
 std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, const WorkingMeshOptions& options);
+
+/// The indices, increasing, of about `target_points` of the vertices of `cloud` (a mesh of
+/// points alone, covering `area`) spread evenly over it by Poisson-disk pruning (vcglib's),
+/// within options.poisson_count_tolerance unless poisson_attempts run out.  Deterministic
+/// for a given `seed`.
+std::vector<int> poisson_disk_subset(const Mesh& cloud, int target_points, double area, unsigned seed,
+                                     const WorkingMeshOptions& options);
 
 /// For every vertex of `fine`, the index of the nearest vertex of `coarse`.
 std::vector<int> nearest_vertices(const Mesh& fine, const Mesh& coarse);

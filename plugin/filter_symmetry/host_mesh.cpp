@@ -523,7 +523,13 @@ QStringList detectionLog(const Detection& d)
 			result.normals_estimated ? "estimated from the points (as Normals, Curvatures and Orientation > "
 			                           "Compute normals for point sets does, then turned outward)"
 			                         : "the cloud's own");
-	if (result.working_vertices > 0)
+	if (result.working_vertices > 0 && result.point_cloud)
+		lines << QString::asprintf(
+			"The point cloud has %d points, more than the working resolution (max_working_vertices = %d): it was "
+			"analysed on %d of them spread evenly (a Poisson-disk subset, as Sampling > Point Cloud Simplification "
+			"makes), and the patches and deviations are those of every point.",
+			int(host.V.rows()), options.working.max_vertices, result.working_vertices);
+	else if (result.working_vertices > 0)
 		lines << QString::asprintf(
 			"The mesh has %d vertices, more than the working resolution (max_working_vertices = %d): it was "
 			"analysed on a copy simplified to %d vertices, and the patches and deviations are those of the mesh "

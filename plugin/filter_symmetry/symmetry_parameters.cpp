@@ -72,8 +72,9 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, s
 		"A mesh with more vertices than this is analysed on a copy simplified to about this many by quadric "
 		"edge collapse (as Simplification: Quadric Edge Collapse Decimation does); what is found is carried "
 		"back to every vertex of the mesh, and the deviation is measured on the mesh itself. The time then "
-		"grows with the symmetries found, not with the tessellation. 0 analyses every mesh at its own "
-		"resolution."));
+		"grows with the symmetries found, not with the tessellation. A point cloud with more points is "
+		"analysed on about this many of them, spread evenly (as Point Cloud Simplification picks them). "
+		"0 analyses every mesh at its own resolution."));
 	parameters.addParam(RichInt(
 		"pair_sample_count", o.pair_sample_count, "Paired samples",
 		"Number of samples (the paper's random subset P') that are paired against all the others in "

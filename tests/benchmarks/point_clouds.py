@@ -2,6 +2,7 @@
 """The planted scenes as point clouds against the same scenes as meshes.
 
     python tests/benchmarks/point_clouds.py [--noise F] [--scenes a,b,c] [--json FILE]
+    python tests/benchmarks/point_clouds.py --dense 200000,1000000 [--scenes mirrored]
 
 For every scene of tests/scenes.py (core, CAD and hard scenes), runs compute_partial_symmetries
 with its defaults (plus the scene's filter_params) on the mesh, and on its vertices alone as a
@@ -13,6 +14,11 @@ Per scene it prints the points, then for the mesh and for the cloud: reports, th
 planted relations found (metrics.recall, against the scenes' ground truth, within
 metrics.RECALL_TOL of the diagonal) and seconds.  Scenes with no required relation (the
 analytic continuous shapes, whose ground truth is a family) are listed with '-'.
+
+With --dense, each scene is instead drawn as clouds of that many points at random on its
+surface (a scan's density, above max_working_vertices): per size it prints the points the
+filter worked on (its Poisson-disk subset), reports, relations found, seconds and the
+process's peak memory so far (sizes run in increasing order, so it is the largest run's).
 
 It measures and does not assert: the exit status is 0 unless a run raises an error other
 than the filter's refusal, which is printed in the row.
@@ -56,6 +62,26 @@ def cloud(scene, noise, seed=0):
     return ms
 
 
+def dense(scene_names, sizes):
+    """The --dense table: every scene drawn as random clouds of each size."""
+    import resource
+    print(f"{'scene':<16} {'points':>8} {'worked on':>9} {'rep':>4} {'found':>6} {'time':>7} {'peak RSS':>9}")
+    for name in scene_names:
+        scene = scenes.make_scene(name, 0)
+        for n in sorted(sizes):
+            P = scenes.sample_surface(scene.vertices, scene.faces, n, np.random.default_rng(1))
+            ms = pymeshlab.MeshSet()
+            ms.add_mesh(pymeshlab.Mesh(vertex_matrix=P), "cloud")
+            t = time.perf_counter()
+            raw = ms.compute_partial_symmetries(create_patch_layers=False, **scene.filter_params)
+            seconds = time.perf_counter() - t
+            r = metrics.recall(scene, metrics.collect(ms, raw, 0, seconds).transforms)
+            worked = raw["working_vertices"] or n
+            peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+            print(f"{name:<16} {n:>8} {worked:>9} {int(raw['symmetry_count']):>4} "
+                  f"{r['found']:>3}/{r['planted']:<2} {seconds:>6.1f}s {peak:>6.0f} MB", flush=True)
+
+
 def cell(r):
     if isinstance(r, str):
         return f"{'refused: ' + r:<28}"
@@ -69,7 +95,12 @@ def main():
     parser.add_argument("--noise", type=float, default=0.001)
     parser.add_argument("--scenes", default=",".join(ALL))
     parser.add_argument("--json")
+    parser.add_argument("--dense", help="comma-separated point counts (default scene: mirrored)")
     args = parser.parse_args()
+    if args.dense:
+        names = args.scenes.split(",") if args.scenes != ",".join(ALL) else ["mirrored"]
+        dense(names, [int(n) for n in args.dense.split(",")])
+        return
     print(f"noise on the cloud: {100 * args.noise:.2g} % of the diagonal on every coordinate; no normals")
     print(f"{'scene':<16} {'points':>7}   {'mesh: rep  found    time':<28} {'cloud: rep  found    time':<28}")
     rows = []

@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 
 namespace symmetry {
 namespace {
@@ -57,6 +59,52 @@ TEST(WorkingMesh, NearestVerticesAgreeWithBruteForce) {
         for (const auto& w : copy->vert) best = std::min(best, (w.cP() - input.vert[i].cP()).Norm());
         EXPECT_DOUBLE_EQ((copy->vert[size_t(nearest[i])].cP() - input.vert[i].cP()).Norm(), best);
     }
+}
+
+}  // namespace
+}  // namespace symmetry
+
+namespace symmetry {
+namespace {
+
+// A cloud of `n` points drawn uniformly at random on the unit sphere: clumps and gaps, as a
+// scan's points have.
+void random_sphere_cloud(int n, unsigned seed, Mesh& cloud) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> gauss;
+    vcg::tri::Allocator<Mesh>::AddVertices(cloud, size_t(n));
+    for (Vertex& v : cloud.vert) {
+        Eigen::Vector3d p(gauss(rng), gauss(rng), gauss(rng));
+        p.normalize();
+        v.P() = vcg::Point3d(p.x(), p.y(), p.z());
+    }
+}
+
+TEST(WorkingCloud, APoissonDiskSubsetHasTheTargetCountAndSpreadsEvenly) {
+    Mesh cloud;
+    random_sphere_cloud(20000, 7, cloud);
+    const int target = 3000;
+    const WorkingMeshOptions options;
+    const std::vector<int> kept = poisson_disk_subset(cloud, target, 4 * M_PI, 0, options);
+    EXPECT_NEAR(double(kept.size()), target, options.poisson_count_tolerance * target);
+    ASSERT_TRUE(std::is_sorted(kept.begin(), kept.end()));
+    EXPECT_EQ(kept, poisson_disk_subset(cloud, target, 4 * M_PI, 0, options));  // the same for a seed
+    // Evenly: the spacing of `target` points on the sphere in a hexagonal pattern, against
+    // the subset's closest pair and the largest gap any input point sees (brute force).
+    const double spacing = std::sqrt(4 * M_PI / target / (std::sqrt(3.0) / 2));
+    auto position = [&](int i) { return Eigen::Vector3d(cloud.vert[size_t(i)].cP()[0], cloud.vert[size_t(i)].cP()[1],
+                                                        cloud.vert[size_t(i)].cP()[2]); };
+    double closest_pair = 1e9, largest_gap = 0;
+    for (size_t a = 0; a < kept.size(); ++a)
+        for (size_t b = a + 1; b < kept.size(); ++b)
+            closest_pair = std::min(closest_pair, (position(kept[a]) - position(kept[b])).norm());
+    for (int i = 0; i < cloud.vn; i += 7) {
+        double nearest = 1e9;
+        for (int k : kept) nearest = std::min(nearest, (position(i) - position(k)).norm());
+        largest_gap = std::max(largest_gap, nearest);
+    }
+    EXPECT_GT(closest_pair, 0.5 * spacing);  // a random subset's closest pair: about 0.02 of it
+    EXPECT_LT(largest_gap, 1.0 * spacing);
 }
 
 }  // namespace

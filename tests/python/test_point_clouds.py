@@ -80,6 +80,31 @@ def test_patch_layers_and_symmetry_id_are_per_point(requires_pipeline):
     assert held <= labelled
 
 
+def test_a_cloud_above_the_working_resolution_is_analysed_on_an_even_subset(requires_pipeline):
+    """A scan-sized cloud: 120,000 points drawn at random on the mirrored scene's surface,
+    above the default max_working_vertices (50,000).  It is analysed on a Poisson-disk subset
+    of about 50,000 of its points, gives the planted mirror, and every one of its points gets
+    a deviation measured on the cloud itself and, in the mirror's patches, the symmetry's id
+    (carried from its nearest point of the subset)."""
+    scene = scenes.make_scene("mirrored", 0)
+    P = scenes.sample_surface(scene.vertices, scene.faces, 120000, np.random.default_rng(1))
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=P), "scan")
+    raw = ms.compute_partial_symmetries(create_patch_layers=False)
+    assert raw["point_cloud"] and abs(raw["working_vertices"] - 50000) <= 0.05 * 50000
+    found = metrics.recall(scene, metrics.collect(ms, raw, 0).transforms)
+    assert found["found"] == found["planted"], found["rows"]
+    cloud = ms.mesh(0)
+    assert cloud.vertex_number() == len(P) and cloud.face_number() == 0
+    ids = cloud.vertex_custom_scalar_attribute_array("symmetry_id")
+    quality = cloud.vertex_scalar_array()
+    # The planted mirror maps each copy onto the other: nearly every point is in a patch,
+    # many more than the subset holds, and deviates by far less than the 1 % tolerance.
+    assert np.count_nonzero(ids >= 0) > 0.9 * len(P) > 2 * raw["working_vertices"]
+    assert np.all(np.abs(quality[ids >= 0]) <= 0.01)
+    assert np.count_nonzero(quality[ids >= 0]) > 0.9 * np.count_nonzero(ids >= 0)
+
+
 def test_the_patches_picture_draws_a_cloud_as_dots_in_its_patches_colour(requires_pipeline, tmp_path):
     """detect() takes (points, no faces), and patches_picture draws the cloud's points, those
     of the mirror's patches in the first palette colour."""
