@@ -117,6 +117,10 @@ std::vector<int> poisson_disk_subset(const Mesh& cloud, int target_points, doubl
     std::vector<int> indices;
     indices.reserve(kept.size());
     for (Mesh::VertexPointer v : kept) indices.push_back(int(vcg::tri::Index(copy, v)));
+    // The pruning leaves its per-vertex "radius" attribute on the mesh, and vcglib frees a
+    // mesh's attributes only when asked: 4 bytes a point, every call, for a batch job to lose.
+    for (const char* name : {"radius", "fixed"})
+        if (vcg::tri::HasPerVertexAttribute(copy, name)) vcg::tri::Allocator<Mesh>::DeletePerVertexAttribute(copy, name);
     std::sort(indices.begin(), indices.end());
     return indices;
 }
