@@ -1,5 +1,7 @@
 #include "continuous_families.h"
 
+#include <functional>
+
 #include "kd_tree.h"
 
 #include <Eigen/Dense>
@@ -13,6 +15,23 @@ namespace symmetry {
 
 namespace {
 
+// The bounds of ContinuousFamilyOptions widened by the surface's roughness: a true family's
+// residual is the noise, not zero.  Angles add as independent tilts (in quadrature),
+// distances as a bias.
+// For a motion m (unit, over the patch scaled to unit radius) whose RMS speed over the
+// patch is `speed`: the noise tilts each face by about the roughness, and so adds that much
+// normal speed per unit of speed.
+double slippage_bound(const ContinuousFamilyOptions& o, double speed) {
+    return std::hypot(o.max_slippage, o.slippage_per_normal_roughness * o.roughness.normal * speed);
+}
+double tangency_bound(double max_sine, const ContinuousFamilyOptions& o) {
+    return std::hypot(max_sine, o.tangency_per_normal_roughness * o.roughness.normal);
+}
+double shape_bound(const ContinuousFamilyOptions& o, double tolerance) {
+    return o.shape_tolerance * tolerance + o.extreme_per_position_roughness * o.roughness.position;
+}
+
+
 double sine_of(double degrees) { return std::sin(degrees * M_PI / 180.0); }
 double cosine_of(double degrees) { return std::cos(degrees * M_PI / 180.0); }
 
@@ -23,6 +42,19 @@ struct PatchFaces {
     std::vector<Eigen::Vector3d> centroids, normals;
     std::vector<double> areas;
 };
+
+// On a noisy patch the largest distance says little about the shape: the RMS distance must
+// stay within the noise as well (on a clean patch the bound on the largest implies it).
+bool near_shape(const PatchFaces& faces, double total, const std::function<double(const Eigen::Vector3d&)>& distance,
+                const ContinuousFamilyOptions& o, double tolerance) {
+    double sum = 0;
+    for (size_t i = 0; i < faces.areas.size(); ++i) {
+        const double d = std::abs(distance(faces.centroids[i]));
+        if (d > shape_bound(o, tolerance)) return false;
+        sum += faces.areas[i] * d * d;
+    }
+    return std::sqrt(sum / total) <= o.shape_tolerance * tolerance + o.rms_per_position_roughness * o.roughness.position;
+}
 
 PatchFaces patch_faces(const MeshNeighbourhoods& mesh, const std::vector<int>& patch) {
     std::vector<char> member(size_t(mesh.vertex_count()), 0);
@@ -72,6 +104,39 @@ void classify_single_motion(const Motion& m, const Eigen::Vector3d& centroid, do
     }
 }
 
+// The sphere nearest to the patch's faces in the least-squares sense (Gauss-Newton from the
+// centre the slippable turns share): on a noisy patch those turns are noisy too, and a
+// centre a little off puts one side of the patch outside any tight bound.
+void fit_sphere(const PatchFaces& faces, double total, const Eigen::Vector3d& start, ContinuousFamily& family) {
+    Eigen::Vector3d centre = start;
+    double radius = 0;
+    for (int iteration = 0; iteration < 5; ++iteration) {
+        radius = 0;
+        for (size_t i = 0; i < faces.areas.size(); ++i) radius += faces.areas[i] * (faces.centroids[i] - centre).norm();
+        radius /= total;
+        // Residual (|c_i - x| - r) with gradient -(c_i - x)/|c_i - x| in x; r is eliminated above.
+        Eigen::Matrix3d JtJ = Eigen::Matrix3d::Zero();
+        Eigen::Vector3d Jtr = Eigen::Vector3d::Zero(), mean_direction = Eigen::Vector3d::Zero();
+        for (size_t i = 0; i < faces.areas.size(); ++i) mean_direction += faces.areas[i] * (faces.centroids[i] - centre).normalized();
+        mean_direction /= total;
+        for (size_t i = 0; i < faces.areas.size(); ++i) {
+            const Eigen::Vector3d d = faces.centroids[i] - centre;
+            const Eigen::Vector3d g = -(d.normalized() - mean_direction);  // with r's dependence on x
+            const double residual = d.norm() - radius;
+            JtJ += faces.areas[i] * g * g.transpose();
+            Jtr += faces.areas[i] * g * residual;
+        }
+        const Eigen::Vector3d step = JtJ.ldlt().solve(-Jtr);
+        if (!step.allFinite()) break;
+        centre += step;
+        if (step.norm() < 1e-9 * radius) break;
+    }
+    radius = 0;
+    for (size_t i = 0; i < faces.areas.size(); ++i) radius += faces.areas[i] * (faces.centroids[i] - centre).norm();
+    family.point = centre;
+    family.radius = radius / total;
+}
+
 // Least-squares centre x of rotations v_i = x × ω_i (each motion turns about x).
 Eigen::Vector3d common_centre(const std::vector<Motion>& motions) {
     Eigen::MatrixXd A(3 * motions.size(), 3);
@@ -116,7 +181,20 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
     C /= total;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(C);
     int slippable = 0;
-    while (slippable < 6 && std::sqrt(std::max(0.0, eigen.eigenvalues()(slippable))) <= options.max_slippage) ++slippable;
+    // The RMS speed over the patch of the unit motion m (column of C's eigenvectors), and
+    // its RMS normal speed.
+    auto speed = [&](const Eigen::Matrix<double, 6, 1>& m) {
+        double sum = 0;
+        for (size_t i = 0; i < faces.areas.size(); ++i) {
+            const Eigen::Vector3d q = (faces.centroids[i] - centroid) / extent;
+            sum += faces.areas[i] * (m.head<3>().cross(q) + m.tail<3>()).squaredNorm();
+        }
+        return std::sqrt(sum / total / m.squaredNorm());
+    };
+    auto slides = [&](const Eigen::Matrix<double, 6, 1>& m) {
+        return std::sqrt(std::max(0.0, m.dot(C * m)) / m.squaredNorm()) <= slippage_bound(options, speed(m));
+    };
+    while (slippable < 6 && slides(eigen.eigenvectors().col(slippable))) ++slippable;
     if (slippable == 0 || slippable > 3) return family;  // none, or a degenerate patch (a line, a point)
 
     // Back to absolute coordinates: at p = c + extent·q the velocity ω × q + v̂ of the unit
@@ -136,6 +214,22 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
 
     if (slippable == 1) {
         classify_single_motion(family.motions[0], centroid, extent, options, family);
+        // A noisy patch's slippable turn carries some advance along its axis from the noise:
+        // helical only if the turn without it does not slide the patch as well.
+        if (family.kind == ContinuousKind::Helical) {
+            Eigen::Matrix<double, 6, 1> turn = eigen.eigenvectors().col(0);
+            const Eigen::Vector3d w = turn.head<3>();
+            turn.tail<3>() -= (w.dot(turn.tail<3>()) / w.squaredNorm()) * w;
+            // ...that is, unless the advance takes away more normal speed than a clean patch's
+            // slippage may show.
+            const double helical = std::sqrt(std::max(0.0, eigen.eigenvalues()(0)));
+            const double turning = std::sqrt(std::max(0.0, turn.dot(C * turn)) / turn.squaredNorm());
+            if (std::sqrt(std::max(0.0, turning * turning - helical * helical)) <= options.max_slippage) {
+                family.kind = ContinuousKind::Rotational;
+                family.pitch = 0;
+                family.motions[0].v -= family.direction.dot(family.motions[0].v) * family.direction;
+            }
+        }
     } else if (slippable == 2 && turning == 1) {
         // A rotation and a translation along its axis: a cylinder.
         Eigen::Vector2d spin = svd.matrixV().col(0).head<2>();
@@ -151,17 +245,16 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
         family.kind = ContinuousKind::Planar;
         family.direction = (rotations * svd.matrixV().col(0)).normalized();
         family.point = centroid;
-        for (const auto& c : faces.centroids)
-            if (std::abs(family.direction.dot(c - centroid)) > options.shape_tolerance * tolerance) return ContinuousFamily();
+        const Eigen::Vector3d normal = family.direction;
+        if (!near_shape(faces, total, [&](const Eigen::Vector3d& c) { return normal.dot(c - centroid); }, options, tolerance))
+            return ContinuousFamily();
     } else if (slippable == 3 && turning == 3) {
         family.kind = ContinuousKind::Spherical;
-        family.point = common_centre(family.motions);
-        double r = 0;
-        for (size_t i = 0; i < faces.areas.size(); ++i) r += faces.areas[i] * (faces.centroids[i] - family.point).norm();
-        family.radius = r / total;
-        for (const auto& c : faces.centroids)
-            if (std::abs((c - family.point).norm() - family.radius) > options.shape_tolerance * tolerance)
-                return ContinuousFamily();
+        fit_sphere(faces, total, common_centre(family.motions), family);
+        const Eigen::Vector3d centre = family.point;
+        const double radius = family.radius;
+        if (!near_shape(faces, total, [&](const Eigen::Vector3d& c) { return (c - centre).norm() - radius; }, options, tolerance))
+            return ContinuousFamily();
     } else {
         return ContinuousFamily();
     }
@@ -270,7 +363,7 @@ bool lies_on_cylinder(const MeshNeighbourhoods& mesh, const ContinuousFamily& fa
     for (int v : family.vertices)
         radii.push_back(family.direction.cross(mesh.positions[size_t(v)] - family.point).norm());
     const auto [lo, hi] = std::minmax_element(radii.begin(), radii.end());
-    return *hi - *lo <= 2 * options.shape_tolerance * tolerance;
+    return *hi - *lo <= 2 * shape_bound(options, tolerance);
 }
 
 bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
@@ -373,6 +466,58 @@ double area_share_mapped(const PatchFaces& faces, const SurfaceQuery& surface, c
 
 }  // namespace
 
+SurfaceRoughness surface_roughness(const MeshNeighbourhoods& mesh) {
+    const size_t n = size_t(mesh.vertex_count());
+    std::vector<Eigen::Vector3d> vertex_normal(n, Eigen::Vector3d::Zero());
+    for (size_t v = 0; v < n; ++v) {
+        for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k) {
+            const int f = mesh.faces_around[size_t(k)];
+            vertex_normal[v] += mesh.face_areas[size_t(f)] * mesh.face_normals[size_t(f)];
+        }
+        vertex_normal[v].normalize();
+    }
+    std::vector<double> tilts, offsets;
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const auto& c = mesh.faces[f];
+        if (c[0] < 0) continue;
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (int v : c) mean += vertex_normal[size_t(v)];
+        // A cloud's point is a face of its own: its neighbours' normals are its surroundings.
+        if (c[0] == c[1])
+            for (int k = mesh.neighbour_offsets[size_t(c[0])]; k < mesh.neighbour_offsets[size_t(c[0]) + 1]; ++k)
+                mean += vertex_normal[size_t(mesh.neighbours[size_t(k)])];
+        if (mean.squaredNorm() > 0) tilts.push_back(mesh.face_normals[f].cross(mean.normalized()).norm());
+    }
+    // A vertex's offset from its neighbours' centroid is the surface's curvature (the same
+    // for its neighbours) plus its noise (its own): the noise is what differs from theirs.
+    std::vector<double> offset(n, NAN);
+    for (size_t v = 0; v < n; ++v) {
+        const int first = mesh.neighbour_offsets[v], last = mesh.neighbour_offsets[v + 1];
+        if (last == first || !vertex_normal[v].allFinite()) continue;
+        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+        for (int k = first; k < last; ++k) centroid += mesh.positions[size_t(mesh.neighbours[size_t(k)])];
+        centroid /= double(last - first);
+        offset[v] = vertex_normal[v].dot(mesh.positions[v] - centroid);
+    }
+    for (size_t v = 0; v < n; ++v) {
+        if (!std::isfinite(offset[v])) continue;
+        double sum = 0;
+        int count = 0;
+        for (int k = mesh.neighbour_offsets[v]; k < mesh.neighbour_offsets[v + 1]; ++k)
+            if (std::isfinite(offset[size_t(mesh.neighbours[size_t(k)])])) {
+                sum += offset[size_t(mesh.neighbours[size_t(k)])];
+                ++count;
+            }
+        if (count > 0) offsets.push_back(std::abs(offset[v] - sum / count));
+    }
+    auto median = [](std::vector<double>& x) {
+        if (x.empty()) return 0.0;
+        std::nth_element(x.begin(), x.begin() + long(x.size() / 2), x.end());
+        return x[x.size() / 2];
+    };
+    return {median(tilts), median(offsets)};
+}
+
 FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
                           double tolerance, double edge_length) {
     FamilyCheck check;
@@ -424,9 +569,9 @@ std::vector<int> grow_family_patch(const MeshNeighbourhoods& mesh, const Continu
                                    const std::vector<int>& seeds, double tolerance,
                                    const ContinuousFamilyOptions& options) {
     const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
-    const double max_sine = sine_of(shape ? options.shape_tangency_degrees : options.tangency_degrees);
+    const double max_sine = tangency_bound(sine_of(shape ? options.shape_tangency_degrees : options.tangency_degrees), options);
     auto on_shape = [&](const Eigen::Vector3d& p) {
-        const double off = options.shape_tolerance * tolerance;
+        const double off = shape_bound(options, tolerance);
         if (family.kind == ContinuousKind::Planar) return std::abs(family.direction.dot(p - family.point)) <= off;
         if (family.kind == ContinuousKind::Spherical) return std::abs((p - family.point).norm() - family.radius) <= off;
         return true;

@@ -56,6 +56,16 @@ struct ContinuousFamily {
     std::vector<int> vertices;     ///< the family's patch, increasing mesh vertex indices
 };
 
+/// How rough the surface the families are looked for on is, beyond its shape: what noise
+/// (a scan's grain, or what presmoothing left of it) adds to every residual of a true family.
+struct SurfaceRoughness {
+    /// Typical sine of the angle between a face's normal and the mean normal of its corners
+    /// (the median over the faces).
+    double normal = 0;
+    /// Typical distance of a vertex from the plane through its neighbours' centroid, along
+    /// its normal (the median over the vertices), absolute units.
+    double position = 0;
+};
 struct ContinuousFamilyOptions {
     /// A motion is slippable when the RMS of its normal speed over the patch is below this
     /// fraction of the speed of a unit motion of the patch normalised to unit radius: the
@@ -112,6 +122,34 @@ struct ContinuousFamilyOptions {
     /// through the axis of a wingnut's hub) and whose patch lies on that family's patch for at least this share of
     /// its vertices is that family, spilled a little onto the parts beside it: not reported.
     double min_member_share = 0.5;
+    /// The surface's roughness (surface_roughness); the pipeline measures it on the surface
+    /// it analyses.  Each test above allows for it, in these units of it, so that a family
+    /// on a noisy scan is recognised and a clean surface is judged as before (measured, face
+    /// tilt and vertex offset: 0.011 and 0.00027 of the diagonal on a clean cylinder of 23,500
+    /// faces; 0.16 and 0.00077 with noise of 0.1 % of the diagonal on its vertices, which no
+    /// presmoothing took away)...
+    SurfaceRoughness roughness;
+    /// ...but only on a surface whose estimated noise (denoising.h) exceeds this fraction of
+    /// the tolerance: a clean surface's roughness is its tessellation and curvature, not
+    /// noise (measured: a clean scene of stretched triangles estimated at 0.022 of the
+    /// tolerance, whose roughness let five spherical families through; noise of 0.05 % and
+    /// 0.1 % of the diagonal estimated at 0.09 and 0.15).
+    double min_noise_for_roughness = 0.05;
+    /// ...the RMS normal speed of a slippable motion per unit of face tilt (measured: 0.44 on
+    /// that noisy cylinder, whose slippable motion showed 0.072 where max_slippage is 0.05;
+    /// the next motion, not slippable, 0.44);
+    double slippage_per_normal_roughness = 1.2;
+    /// ...the tangency of a face, tested face by face, in units of the typical face tilt;
+    double tangency_per_normal_roughness = 2;
+    /// ...the largest distance of a patch from its plane, sphere or cylinder: the extreme of
+    /// tens of thousands of noisy vertices (the typical offset is 0.7 of the noise's standard
+    /// deviation, and the largest of 20,000 Gaussian values is 4.4 deviations);
+    double extreme_per_position_roughness = 6.5;
+    /// ...the RMS distance of a patch from its plane or sphere: the noise's standard
+    /// deviation at a face's centroid is about 0.8 of the typical offset;
+    double rms_per_position_roughness = 1.5;
+    /// ...and the median deviation of a member (check_members), over both sides' noise.
+    double median_per_position_roughness = 3;
 };
 
 /// Slippage analysis of a patch (Gelfand and Guibas 2004) and the family it belongs to,
@@ -157,6 +195,8 @@ bool lies_on_cylinder(const MeshNeighbourhoods& mesh, const ContinuousFamily& fa
 /// Whether two families are one: same kind, axes within the agreement angle and tolerance.
 bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double tolerance,
                  const ContinuousFamilyOptions& options);
+
+SurfaceRoughness surface_roughness(const MeshNeighbourhoods& mesh);
 
 /// How a family's finite members map its patch onto the surface.
 struct FamilyCheck {

@@ -232,3 +232,50 @@ TEST(ContinuousFamilies, ABandOfAConeIsNoCylinder) {
         EXPECT_EQ(lies_on_cylinder(a.n, f, 0.01 * a.diagonal, options), on_cylinder) << band_height;
     }
 }
+
+namespace {
+
+// Gaussian noise of standard deviation `sigma` on every coordinate of a shape's vertices.
+Shape with_noise(Shape s, double sigma, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> gauss(0.0, sigma);
+    for (Eigen::Index i = 0; i < s.V.rows(); ++i)
+        for (int k = 0; k < 3; ++k) s.V(i, k) += gauss(rng);
+    return s;
+}
+
+}  // namespace
+
+TEST(ContinuousFamilies, RoughnessIsTheNoiseNotTheCurvature) {
+    // A clean sphere and cylinder are curved but not rough; with noise of 0.2 % of the radius
+    // on every coordinate, the typical vertex offset is of the order of that noise.
+    for (const Shape& clean : {sphere(1.0, 5), cylinder(1.0, 2.0, 96, 48)}) {
+        Analysed a;
+        analyse(clean, a);
+        const SurfaceRoughness r = surface_roughness(a.n);
+        EXPECT_LT(r.position, 1e-4);
+        EXPECT_LT(r.normal, 0.05);
+    }
+    const double sigma = 0.002;
+    Analysed a;
+    analyse(with_noise(sphere(1.0, 5), sigma, 3), a);
+    const SurfaceRoughness r = surface_roughness(a.n);
+    EXPECT_GT(r.position, 0.4 * sigma);
+    EXPECT_LT(r.position, 1.5 * sigma);
+    EXPECT_GT(r.normal, 0.05);  // the sphere's edges are about 0.03 long: a tilt of sigma/edge
+}
+
+TEST(ContinuousFamilies, ANoisySphereIsOneSphericalFamilyWhenItsRoughnessIsAllowedFor) {
+    // Noise of 0.1 % of the diagonal: with the clean bounds no motion slides the sphere; with
+    // the roughness allowed for, it is a sphere about its true centre.
+    Analysed a;
+    analyse(with_noise(sphere(1.0, 5), 0.001 * 2 * std::sqrt(3.0), 5), a);
+    const double tolerance = 0.01 * a.diagonal;
+    ContinuousFamilyOptions options;
+    EXPECT_EQ(slippable_family(a.n, a.all, tolerance, options).kind, ContinuousKind::Discrete);
+    options.roughness = surface_roughness(a.n);
+    const ContinuousFamily f = slippable_family(a.n, a.all, tolerance, options);
+    ASSERT_EQ(f.kind, ContinuousKind::Spherical);
+    EXPECT_LT(f.point.norm(), tolerance);
+    EXPECT_NEAR(f.radius, 1.0, tolerance);
+}
