@@ -539,7 +539,9 @@ public:
         vo_.debris = model.debris;
         if (model.presmoothed()) vo_.noise = model.noise;
         co_ = options.continuous;
-        if (model.noise > co_.min_noise_for_roughness * vo_.tolerance) co_.roughness = surface_roughness(mesh_);
+        if (model.noise > co_.min_noise_for_roughness * vo_.tolerance &&
+            model.noise <= co_.max_noise_for_roughness * vo_.tolerance)
+            co_.roughness = surface_roughness(mesh_);
         vo_.min_displacement = std::max(2 * radius, 4 * vo_.tolerance);
         vo_.refine_with_icp = options.refine_with_icp;
         vo_.group = options.group;
