@@ -1,10 +1,10 @@
 #include "continuous_families.h"
 
-#include <functional>
-
 #include "kd_tree.h"
 
 #include <Eigen/Dense>
+
+#include <functional>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -17,10 +17,9 @@ namespace {
 
 // The bounds of ContinuousFamilyOptions widened by the surface's roughness: a true family's
 // residual is the noise, not zero.  Angles add as independent tilts (in quadrature),
-// distances as a bias.
-// For a motion m (unit, over the patch scaled to unit radius) whose RMS speed over the
-// patch is `speed`: the noise tilts each face by about the roughness, and so adds that much
-// normal speed per unit of speed.
+// distances as a bias.  For slippage, of a motion whose RMS speed over the patch is `speed`:
+// the noise tilts each face by about the roughness, which adds that much normal speed per
+// unit of speed.
 double slippage_bound(const ContinuousFamilyOptions& o, double speed) {
     return std::hypot(o.max_slippage, o.slippage_per_normal_roughness * o.roughness.normal * speed);
 }
@@ -30,7 +29,6 @@ double tangency_bound(double max_sine, const ContinuousFamilyOptions& o) {
 double shape_bound(const ContinuousFamilyOptions& o, double tolerance) {
     return o.shape_tolerance * tolerance + o.extreme_per_position_roughness * o.roughness.position;
 }
-
 
 double sine_of(double degrees) { return std::sin(degrees * M_PI / 180.0); }
 double cosine_of(double degrees) { return std::cos(degrees * M_PI / 180.0); }
@@ -191,8 +189,11 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
         }
         return std::sqrt(sum / total / m.squaredNorm());
     };
+    auto normal_speed = [&](const Eigen::Matrix<double, 6, 1>& m) {
+        return std::sqrt(std::max(0.0, m.dot(C * m)) / m.squaredNorm());
+    };
     auto slides = [&](const Eigen::Matrix<double, 6, 1>& m) {
-        return std::sqrt(std::max(0.0, m.dot(C * m)) / m.squaredNorm()) <= slippage_bound(options, speed(m));
+        return normal_speed(m) <= slippage_bound(options, speed(m));
     };
     while (slippable < 6 && slides(eigen.eigenvectors().col(slippable))) ++slippable;
     if (slippable == 0 || slippable > 3) return family;  // none, or a degenerate patch (a line, a point)
@@ -223,7 +224,7 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
             // ...that is, unless the advance takes away more normal speed than a clean patch's
             // slippage may show.
             const double helical = std::sqrt(std::max(0.0, eigen.eigenvalues()(0)));
-            const double turning = std::sqrt(std::max(0.0, turn.dot(C * turn)) / turn.squaredNorm());
+            const double turning = normal_speed(turn);
             if (std::sqrt(std::max(0.0, turning * turning - helical * helical)) <= options.max_slippage) {
                 family.kind = ContinuousKind::Rotational;
                 family.pitch = 0;
