@@ -1,4 +1,5 @@
 #include "continuous_families.h"
+#include "verification.h"
 
 #include "kd_tree.h"
 
@@ -151,6 +152,27 @@ Eigen::Vector3d common_centre(const std::vector<Motion>& motions) {
 
 }  // namespace
 
+namespace {
+
+// Whether the patch's vertices lie off the sphere (fitted to them by least squares) by noise
+// alone: their distance from it, averaged over neighbourhoods, shrinks as noise does (see
+// ContinuousFamilyOptions::max_systematic_share_off_sphere).
+bool off_sphere_by_noise_alone(const MeshNeighbourhoods& mesh, const std::vector<int>& patch,
+                               const Eigen::Vector3d& centre, double radius, const ContinuousFamilyOptions& options) {
+    std::vector<double> distance(size_t(mesh.vertex_count()), 0.0);
+    double sum2 = 0;
+    for (int v : patch) {
+        const double d = (mesh.positions[size_t(v)] - centre).norm() - radius;
+        distance[size_t(v)] = d;
+        sum2 += d * d;
+    }
+    const double rms = std::sqrt(sum2 / double(patch.size()));
+    return systematic_deviation(mesh, patch, distance, options.systematic_smoothing_iterations) <=
+           options.max_systematic_share_off_sphere * rms;
+}
+
+}  // namespace
+
 ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, double tolerance,
                                   const ContinuousFamilyOptions& options) {
     ContinuousFamily family;
@@ -256,11 +278,24 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
         const double radius = family.radius;
         if (!near_shape(faces, total, [&](const Eigen::Vector3d& c) { return (c - centre).norm() - radius; }, options, tolerance))
             return ContinuousFamily();
+        if (options.roughness.position > 0 && !off_sphere_by_noise_alone(mesh, patch, centre, radius, options))
+            return ContinuousFamily();
     } else {
         return ContinuousFamily();
     }
     return family;
 }
+
+namespace {
+
+// The cosine of the turn θ of a reflection T that flips an axis, as a mirror across the
+// plane normal to the axis composed with a turn by θ about it: trace(T's linear part) is
+// 2 cos θ - 1 (1 for the mirror itself, -3 for the point inversion).
+double rotoreflection_cosine(const Transformation& T) {
+    return std::clamp(((T.linear() / T.scale).trace() + 1) / 2, -1.0, 1.0);
+}
+
+}  // namespace
 
 bool is_member(const ContinuousFamily& f, const Transformation& T, double tolerance, double degrees) {
     const double parallel = cosine_of(degrees);
@@ -282,6 +317,8 @@ bool is_member(const ContinuousFamily& f, const Transformation& T, double tolera
         // surface slides along the axis (a capped cylinder's mirror across its mid-plane).
         // Where the surface slides, every mirror normal to the axis maps it locally; only the
         // one through the middle of the patch (f.point, see record_family) maps all of it.
+        // (A mirror composed with a turn about the axis is a member: see
+        // mirror_in_rotoreflection.)
         const Transformation twice = T * T;
         const bool mirror_normal_to_axis = T.reflection && (twice.apply(a) - a).norm() <= tolerance &&
                                            (twice.apply(b) - b).norm() <= tolerance &&
@@ -304,6 +341,18 @@ bool is_member(const ContinuousFamily& f, const Transformation& T, double tolera
     case ContinuousKind::Spherical: return (T.apply(f.point) - f.point).norm() <= tolerance;
     }
     return false;
+}
+
+std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& f, const Transformation& T, double degrees) {
+    if (f.kind != ContinuousKind::Rotational || !T.reflection) return std::nullopt;
+    if ((T.linear() * f.direction / T.scale).dot(f.direction) > -cosine_of(degrees)) return std::nullopt;
+    if (rotoreflection_cosine(T) >= cosine_of(degrees)) return std::nullopt;  // the mirror already
+    // A turn about the axis fixes the axis point by point, so T moves an axis point a as
+    // the mirror does: the mirror's plane passes half way between a and T(a).
+    const Eigen::Vector3d& n = f.direction;
+    const Eigen::Vector3d on_plane = 0.5 * (f.point + T.apply(f.point));
+    const Eigen::Matrix3d linear = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
+    return Transformation::from_linear(linear, 2 * n * n.dot(on_plane));
 }
 
 ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness) {

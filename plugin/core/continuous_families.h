@@ -18,6 +18,7 @@
 #include "transformation_space.h"
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 namespace symmetry {
@@ -122,6 +123,11 @@ struct ContinuousFamilyOptions {
     /// through the axis of a wingnut's hub) and whose patch lies on that family's patch for at least this share of
     /// its vertices is that family, spilled a little onto the parts beside it: not reported.
     double min_member_share = 0.5;
+    /// A member that is a surface of revolution's mirror composed with a turn
+    /// (mirror_in_rotoreflection) has that mirror verified in its own right, with T held,
+    /// from this many of the member's source vertices spread over its patch (a count): one
+    /// seed grows a connected patch whole, the others start the components it misses.
+    int mirror_seeds = 16;
     /// The surface's roughness (surface_roughness); the pipeline measures it on the surface
     /// it analyses.  Each test above allows for it, in these units of it, so that a family
     /// on a noisy scan is recognised and a clean surface is judged as before (measured, face
@@ -155,6 +161,17 @@ struct ContinuousFamilyOptions {
     double rms_per_position_roughness = 1.5;
     /// ...and the median deviation of a member (check_members), over both sides' noise.
     double median_per_position_roughness = 3;
+    /// With those allowances, a surface that merely comes near a sphere passes for one (two
+    /// regions of a noisy vase's bulb did).  Noise and shape differ in how they average out:
+    /// the vertices' distance from the sphere, fitted to them by least squares, averaged over
+    /// mesh neighbourhoods (`systematic_smoothing_iterations` rounds, as for a symmetry's
+    /// systematic deviation), keeps at most this fraction of its RMS on a sphere (measured,
+    /// noise of 0.1 % of the diagonal: 0.14-0.27 on a sphere's patches of 114-7164
+    /// vertices; 0.40-0.54 on the vase's near-spheres of 149-533).  Planes are not tested so:
+    /// their normal comes from slippage, not a least-squares fit, and a slightly tilted fit
+    /// leaves a smooth residual on a true face (0.24-0.61 on a noisy box's faces).
+    double max_systematic_share_off_sphere = 0.33;
+    int systematic_smoothing_iterations = 4;  ///< rounds of averaging over mesh neighbours
 };
 
 /// Slippage analysis of a patch (Gelfand and Guibas 2004) and the family it belongs to,
@@ -176,6 +193,15 @@ ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vec
 /// `tolerance` (absolute) and `degrees` are how far T may be from exact: the verification
 /// tolerance and axis_agreement_degrees for a refined T, more for a cluster's mode.
 bool is_member(const ContinuousFamily& family, const Transformation& T, double tolerance, double degrees);
+
+/// A rotational family's member that flips the axis by a reflection, other than the mirror
+/// across the plane normal to the axis, is that mirror composed with a turn about the
+/// axis (a rotoreflection).  Where the surface has that mirror, ICP on a noisy surface
+/// drifts along the family and settles on such a member instead of it: this returns the
+/// mirror, to be verified in its own right; nothing when T is not such a member (`degrees`
+/// as for is_member).
+std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& family, const Transformation& T,
+                                                       double degrees);
 
 /// The family a sample that umbilic pruning (§2.1) discarded suggests: the plane through
 /// it for a flat sample (largest |κ| r below `flatness`), else the sphere of its mean

@@ -597,8 +597,7 @@ public:
         // A candidate that converges onto a discrete symmetry found before is that symmetry's.
         const KnownRelation known = [this, &out](const Transformation& t) {
             out.asked.push_back(t);
-            return std::any_of(findings_.discrete.begin(), findings_.discrete.end(),
-                               [&](const Found& f) { return same_relation(t, f.symmetry.transform); });
+            return is_known(t);
         };
         out.result = verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known);
         if (out.result) out.assessment = assess(*out.result, workers_[size_t(omp_get_thread_num())]);
@@ -624,6 +623,12 @@ public:
     bool same_relation(const Transformation& a, const Transformation& b) const {
         return space_.distance(a, b) < options_.cluster_bandwidth ||
                space_.distance(a, b.inverse()) < options_.cluster_bandwidth;
+    }
+
+    /// Whether T is a discrete symmetry found already.
+    bool is_known(const Transformation& T) const {
+        return std::any_of(findings_.discrete.begin(), findings_.discrete.end(),
+                           [&](const Found& f) { return same_relation(T, f.symmetry.transform); });
     }
 
     /// Whether most of the candidate's votes join points that lie on the patches of what
@@ -871,7 +876,10 @@ private:
         if (!a.agrees) return;
         if (a.family.kind != ContinuousKind::Discrete) {
             record_family(a.family, support);
-            if (a.member) return;
+            if (a.member) {
+                verify_mirror_in(s, a.family, support);
+                return;
+            }
         }
         if (s.small_motion) return;  // a slide along the surface, not a discrete symmetry
         for (auto& f : findings_.discrete)
@@ -882,6 +890,28 @@ private:
         found.slippable_source = a.slippable_source;
         if (found.slippable_source && redundant_with_reported(found.symmetry)) return;
         findings_.discrete.push_back(std::move(found));
+    }
+
+    // A member that is the family's mirror composed with a turn (mirror_in_rotoreflection):
+    // that mirror, where the surface has it, is a discrete symmetry beside the family (a
+    // torus's equator, a cylinder's mid-plane), which ICP on a noisy surface drifts away
+    // from along the family.  It is verified from the member's patch with T held, once.
+    void verify_mirror_in(const VerifiedSymmetry& member, const ContinuousFamily& family, int support) {
+        const std::optional<Transformation> mirror =
+            mirror_in_rotoreflection(family, member.transform, co_.axis_agreement_degrees);
+        if (!mirror || tried(*mirror)) return;
+        tried_.push_back(*mirror);
+        std::vector<Seed> seeds;
+        const std::vector<int>& patch = member.source_vertices;
+        const size_t stride = std::max<size_t>(1, patch.size() / size_t(std::max(1, co_.mirror_seeds)));
+        for (size_t i = 0; i < patch.size(); i += stride) seeds.push_back({patch[i], 0.0});
+        VerificationOptions held = vo_;
+        held.refine_with_icp = false;
+        const KnownRelation known = [this](const Transformation& t) { return is_known(t); };
+        std::optional<VerifiedSymmetry> verified = verify_candidate(mesh_, surface_, *mirror, std::move(seeds), held, known);
+        if (!verified) return;
+        const Assessment assessment = assess(*verified, workers_[size_t(omp_get_thread_num())]);
+        classify(std::move(*verified), assessment, support);
     }
 
     // An axis's point moved to the middle of the patch's span along the axis, where the
