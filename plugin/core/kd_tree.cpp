@@ -31,6 +31,12 @@ KdTree::KdTree(Points points) : points_(std::move(points)) {
     index_ = std::make_unique<Index>(&points_);
 }
 KdTree::~KdTree() = default;
+
+KdTree::Points KdTree::rows_of(const std::vector<Eigen::Vector3d>& points) {
+    Points rows(Eigen::Index(points.size()), 3);
+    for (size_t i = 0; i < points.size(); ++i) rows.row(Eigen::Index(i)) = points[i].transpose();
+    return rows;
+}
 // The index holds a pointer to points_, so a move must rebuild that link.
 KdTree::KdTree(KdTree&& other) noexcept : points_(std::move(other.points_)), index_(std::move(other.index_)) {
     if (index_) index_->adaptor.points = &points_;

@@ -17,6 +17,8 @@ public:
     using Points = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
     explicit KdTree(Points points);
+    /// 3-D points as the rows a tree is built from.
+    static Points rows_of(const std::vector<Eigen::Vector3d>& points);
     ~KdTree();
     KdTree(KdTree&&) noexcept;
     KdTree& operator=(KdTree&&) noexcept;

@@ -16,19 +16,6 @@ namespace symmetry {
 
 namespace {
 
-KdTree::Points as_rows(const std::vector<Eigen::Vector3d>& points) {
-    KdTree::Points rows(Eigen::Index(points.size()), 3);
-    for (size_t i = 0; i < points.size(); ++i) rows.row(Eigen::Index(i)) = points[i].transpose();
-    return rows;
-}
-
-// Any orthonormal basis of the plane orthogonal to the unit vector n.
-void tangent_basis(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2) {
-    Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    t1 = n.cross(helper).normalized();
-    t2 = n.cross(t1);
-}
-
 // Step 1: MeshLab's own estimate (filter "Compute normals for point sets" calls vcglib's
 // PointCloudNormal): the normal of a plane fitted to each point's nearest neighbours.  Its
 // orientation pass is left to step 2, which orients each part outward as well as coherently.
@@ -53,7 +40,7 @@ std::vector<Eigen::Vector3d> fitted_plane_normals(const std::vector<Eigen::Vecto
 
 void neighbour_graph(const std::vector<Eigen::Vector3d>& points, int k, std::vector<int>& offsets,
                      std::vector<int>& neighbours) {
-    const KdTree tree(as_rows(points));
+    const KdTree tree(KdTree::rows_of(points));
     std::vector<std::vector<int>> lists(points.size());
     for (size_t i = 0; i < points.size(); ++i)
         for (int j : tree.nearest_k(points[i].data(), k + 1))
@@ -90,7 +77,7 @@ std::vector<SurfaceSample> area_weighted_points(const std::vector<Eigen::Vector3
 
 PointAreas point_areas(const std::vector<Eigen::Vector3d>& points, const PointCloudOptions& options) {
     PointAreas out;
-    const KdTree tree(as_rows(points));
+    const KdTree tree(KdTree::rows_of(points));
     const int k = options.area_neighbours;
     for (const Eigen::Vector3d& p : points) {
         const std::vector<int> near = tree.nearest_k(p.data(), k + 1);  // the point itself first
@@ -208,7 +195,7 @@ std::vector<Eigen::Vector3d> estimate_point_normals(const std::vector<Eigen::Vec
 }
 
 PointCloudSurface::PointCloudSurface(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals)
-    : points_(std::move(points)), normals_(std::move(normals)), tree_(as_rows(points_)) {
+    : points_(std::move(points)), normals_(std::move(normals)), tree_(KdTree::rows_of(points_)) {
     if (normals_.size() != points_.size())
         throw InputError("A point cloud needs one normal per point.");
 }

@@ -95,13 +95,6 @@ double face_area_in_ball(const FaceData& f, const Eigen::Vector3d& c, double r) 
     return std::min(std::abs(area), f.area);
 }
 
-// Any orthonormal basis of the plane orthogonal to the unit vector n.
-void tangent_basis(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2) {
-    Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    t1 = n.cross(helper).normalized();
-    t2 = n.cross(t1);
-}
-
 std::vector<FaceData> read_faces(const Mesh& mesh) {
     std::vector<FaceData> faces(mesh.face.size());
     for (size_t i = 0; i < mesh.face.size(); ++i) {
@@ -388,6 +381,12 @@ std::vector<SurfaceSignature> compute_signatures(const CurvatureEstimator& estim
         }
     }
     return signatures;
+}
+
+void tangent_basis(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2) {
+    Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    t1 = n.cross(helper).normalized();
+    t2 = n.cross(t1);
 }
 
 }  // namespace symmetry

@@ -76,4 +76,8 @@ private:
 std::vector<SurfaceSignature> compute_signatures(const CurvatureEstimator& estimator,
                                                  const std::vector<SurfaceSample>& samples, double radius);
 
+/// Any orthonormal basis (t1, t2) of the plane orthogonal to the unit vector n, with
+/// t1 × t2 = n: the frame a tangent-plane fit or a projected tensor is expressed in.
+void tangent_basis(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2);
+
 }  // namespace symmetry

@@ -27,14 +27,9 @@ struct SurfaceQuery::Discs {
     KdTree tree;
     int candidates;
 
-    static KdTree::Points rows(const std::vector<Eigen::Vector3d>& points) {
-        KdTree::Points r(Eigen::Index(points.size()), 3);
-        for (size_t i = 0; i < points.size(); ++i) r.row(Eigen::Index(i)) = points[i].transpose();
-        return r;
-    }
     Discs(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& n, const std::vector<double>& r,
           int k)
-        : centres(p), normals(n), radii(r), tree(rows(p)), candidates(k) {}
+        : centres(p), normals(n), radii(r), tree(KdTree::rows_of(p)), candidates(k) {}
 
     // The point of disc i nearest to q: q's projection on its plane, pulled in to the rim.
     ClosestPoint on_disc(int i, const Eigen::Vector3d& q) const {
