@@ -167,8 +167,9 @@ bool off_sphere_by_noise_alone(const MeshNeighbourhoods& mesh, const std::vector
         sum2 += d * d;
     }
     const double rms = std::sqrt(sum2 / double(patch.size()));
-    return systematic_deviation(mesh, patch, distance, options.systematic_smoothing_iterations) <=
-           options.max_systematic_share_off_sphere * rms;
+    const double bound = options.presmoothed ? options.max_systematic_share_off_sphere_presmoothed
+                                             : options.max_systematic_share_off_sphere;
+    return systematic_deviation(mesh, patch, distance, options.systematic_smoothing_iterations) <= bound * rms;
 }
 
 }  // namespace

@@ -171,6 +171,13 @@ struct ContinuousFamilyOptions {
     /// their normal comes from slippage, not a least-squares fit, and a slightly tilted fit
     /// leaves a smooth residual on a true face (0.24-0.61 on a noisy box's faces).
     double max_systematic_share_off_sphere = 0.33;
+    /// The same on a surface presmoothed for its noise (denoising.h, a noisy cloud's
+    /// projection on local fits), whose noise was averaged once already, so what is left
+    /// of it averages out less (measured, clouds with noise of 0.1 % of the diagonal: 0.32-0.43
+    /// on a sphere's patches, which the bound above split into small families; 0.46-0.68 on
+    /// the near-spheres of the planted scenes' clouds, and one at 0.38).
+    double max_systematic_share_off_sphere_presmoothed = 0.45;
+    bool presmoothed = false;  ///< the analysed surface was presmoothed; the pipeline sets it
     int systematic_smoothing_iterations = 4;  ///< rounds of averaging over mesh neighbours
 };
 
