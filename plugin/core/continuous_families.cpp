@@ -1,16 +1,15 @@
 #include "continuous_families.h"
-#include "verification.h"
 
 #include "kd_tree.h"
+#include "verification.h"
 
 #include <Eigen/Dense>
-
-#include <functional>
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 
 namespace symmetry {
 
@@ -149,10 +148,6 @@ Eigen::Vector3d common_centre(const std::vector<Motion>& motions) {
     }
     return A.colPivHouseholderQr().solve(b);
 }
-
-}  // namespace
-
-namespace {
 
 // Whether the patch's vertices lie off the sphere (fitted to them by least squares) by noise
 // alone: their distance from it, averaged over neighbourhoods, shrinks as noise does (see
