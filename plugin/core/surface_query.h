@@ -5,6 +5,7 @@
 #include "mesh.h"
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -55,6 +56,7 @@ private:
     struct Grid;
     struct Discs;
     const Mesh* mesh_ = nullptr;
+    std::uint64_t id_ = 0;  // names the surface to the grid search's per-thread marks
     std::unique_ptr<Grid> grid_;    // a mesh's faces
     std::unique_ptr<Discs> discs_;  // or a cloud's discs
 };

@@ -10,6 +10,8 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <thread>
+#include <vector>
 
 namespace symmetry {
 namespace {
@@ -75,6 +77,42 @@ TEST_P(SurfaceQueryGrid, LandingAgreesWithAnExhaustiveScan) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CellsPerFace, SurfaceQueryGrid, ::testing::Values(1.0, 8.0, 64.0));
+
+// A search marks the faces it has tested, per thread, for the last two surfaces searched:
+// queries taking turns over three surfaces, from two threads at once, find what a scan finds.
+TEST(SurfaceQueryMarks, QueriesTakingTurnsOverThreeSurfacesFromTwoThreadsAgreeWithAScan) {
+    std::vector<std::unique_ptr<Mesh>> meshes;
+    std::vector<std::unique_ptr<SurfaceQuery>> surfaces;
+    for (int k = 0; k < 3; ++k) {
+        const testing::Shape s = testing::box(1.0 - 0.2 * k, 0.6, 0.4 + 0.1 * k, 5 + k);
+        meshes.push_back(std::make_unique<Mesh>());
+        std::vector<int> map;
+        build_mesh(s.V, s.F, *meshes.back(), map);
+        surfaces.push_back(std::make_unique<SurfaceQuery>(*meshes.back(), 8.0));
+    }
+    const double max_distance = 0.1;
+    std::vector<int> disagreements(2, 0), found(2, 0);
+    auto ask = [&](int thread) {
+        std::mt19937 rng(unsigned(11 + thread));
+        std::uniform_real_distribution<double> coordinate(-0.7, 0.7);
+        for (int i = 0; i < 1500; ++i) {
+            const int k = i % 3;
+            const Eigen::Vector3d q(coordinate(rng), coordinate(rng), coordinate(rng));
+            const ClosestPoint c = surfaces[size_t(k)]->closest(q, max_distance);
+            const double nearest = scan(*meshes[size_t(k)], q, Eigen::Vector3d::UnitX(), 2).nearest;
+            if (c.found != (nearest <= max_distance) || (c.found && std::abs(c.distance - nearest) > 1e-12))
+                ++disagreements[size_t(thread)];
+            found[size_t(thread)] += c.found;
+        }
+    };
+    std::thread other(ask, 1);
+    ask(0);
+    other.join();
+    EXPECT_EQ(disagreements[0], 0);
+    EXPECT_EQ(disagreements[1], 0);
+    EXPECT_GT(found[0], 100);
+    EXPECT_GT(found[1], 100);
+}
 
 }  // namespace
 }  // namespace symmetry
