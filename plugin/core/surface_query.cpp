@@ -68,12 +68,40 @@ std::uint64_t next_surface_id() {
 
 }  // namespace
 
+// The faces in vcg's grid, and a sphere around each (its centroid and the distance to its
+// farthest corner), so that a search skips at the cost of one distance a face that lies
+// farther than its bound, before vcg's exact point-triangle distance.
 struct SurfaceQuery::Grid {
     vcg::GridStaticPtr<Face, double> grid;
+    const Face* first = nullptr;
+    std::vector<Eigen::Vector4d> spheres;  // centre, radius
+
+    explicit Grid(const Mesh& mesh) : first(mesh.face.empty() ? nullptr : &mesh.face[0]) {
+        spheres.resize(mesh.face.size());
+        for (size_t f = 0; f < mesh.face.size(); ++f) {
+            Eigen::Vector3d corner[3];
+            for (int k = 0; k < 3; ++k) {
+                const auto& p = mesh.face[f].cP(k);
+                corner[k] = Eigen::Vector3d(p[0], p[1], p[2]);
+            }
+            const Eigen::Vector3d centre = (corner[0] + corner[1] + corner[2]) / 3;
+            double radius = 0;
+            for (const Eigen::Vector3d& c : corner) radius = std::max(radius, (c - centre).norm());
+            spheres[f] << centre, radius;
+        }
+    }
+    // Whether face f may lie within `bound` of q.  The sphere's radius is widened a little:
+    // a face exactly at the bound counts, as in vcg's test, whatever the rounding.
+    bool may_reach(const Face& f, const vcg::Point3d& q, double bound) const {
+        const Eigen::Vector4d& s = spheres[size_t(&f - first)];
+        const double dx = q[0] - s[0], dy = q[1] - s[1], dz = q[2] - s[2];
+        const double reach = (s[3] + bound) * (1 + 1e-9);
+        return dx * dx + dy * dy + dz * dz <= reach * reach;
+    }
 };
 
 SurfaceQuery::SurfaceQuery(const Mesh& mesh, double cells_per_face)
-    : mesh_(&mesh), id_(next_surface_id()), grid_(std::make_unique<Grid>()) {
+    : mesh_(&mesh), id_(next_surface_id()), grid_(std::make_unique<Grid>(mesh)) {
     Mesh& m = const_cast<Mesh&>(mesh);  // vcg's grid stores non-const face pointers; it never writes
     const int cells = int(std::max(1.0, std::min(cells_per_face * double(m.face.size()), 1e8)));
     grid_->grid.Set(m.face.begin(), m.face.end(), cells);
@@ -146,7 +174,9 @@ struct LandingDistance {
     typedef vcg::Point3d QueryType;
     static const vcg::Point3d& Pos(const vcg::Point3d& q) { return q; }
     LandingSearch* search;
+    const SurfaceQuery::Grid* grid;
     bool operator()(const Face& f, const vcg::Point3d& p, double& bound, vcg::Point3d& q) const {
+        if (!grid->may_reach(f, p, bound)) return false;
         double d = bound;
         vcg::Point3d c;
         if (!vcg::face::PointDistanceBase(f, p, d, c)) return false;
@@ -164,6 +194,17 @@ struct LandingDistance {
         bound = d + search->tie;
         q = c;
         return true;
+    }
+};
+
+// The distance vcg's grid search sees while closest(): vcg's own, after the sphere test.
+struct NearestDistance {
+    typedef double ScalarType;
+    typedef vcg::Point3d QueryType;
+    static const vcg::Point3d& Pos(const vcg::Point3d& q) { return q; }
+    const SurfaceQuery::Grid* grid;
+    bool operator()(const Face& f, const vcg::Point3d& p, double& bound, vcg::Point3d& q) const {
+        return grid->may_reach(f, p, bound) && vcg::face::PointDistanceBase(f, p, bound, q);
     }
 };
 
@@ -228,7 +269,7 @@ SurfaceQuery::Landing SurfaceQuery::landing(const Eigen::Vector3d& query, double
                                             const std::vector<Eigen::Vector3d>& normals, double min_cosine) const {
     if (discs_) return disc_landing(nearest_discs(query), max_distance, tie, normals, min_cosine);
     LandingSearch search{&normals, min_cosine, tie, {}, {}, {}};
-    LandingDistance point_face_distance{&search};
+    LandingDistance point_face_distance{&search, grid_.get()};
     // The bound starts a tie beyond max_distance: a facing face just beyond it counts
     // when the nearest face lies at max_distance.  What the search records is in `search`.
     vcg::Point3d unused;
@@ -252,7 +293,7 @@ ClosestPoint SurfaceQuery::closest(const Eigen::Vector3d& query, double max_dist
             if (c.distance <= max_distance && (!best.found || c.distance < best.distance)) best = c;
         return best;
     }
-    vcg::face::PointDistanceBaseFunctor<double> point_face_distance;
+    NearestDistance point_face_distance{grid_.get()};
     vcg::Point3d nearest;
     const Face* f = grid_closest(grid_->grid, point_face_distance, QueryMarks(*mesh_, id_), query, max_distance, nearest);
     return closest_point(*mesh_, query, f, nearest);

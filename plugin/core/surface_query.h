@@ -51,9 +51,10 @@ public:
     Landing landing(const Eigen::Vector3d& query, double max_distance, double tie,
                     const std::vector<Eigen::Vector3d>& normals, double min_cosine) const;
 
+    struct Grid;  // a mesh's faces as searched (surface_query.cpp)
+
 private:
     std::vector<ClosestPoint> nearest_discs(const Eigen::Vector3d& query) const;
-    struct Grid;
     struct Discs;
     const Mesh* mesh_ = nullptr;
     std::uint64_t id_ = 0;  // names the surface to the grid search's per-thread marks
