@@ -39,7 +39,7 @@ bool agree(const SurfaceSignature& a, const SurfaceSignature& b, const Transform
 
 CurvatureAgreement curvature_agreement(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                        const CurvatureEstimator& curvature, CurvatureEstimator::Workspace& workspace,
-                                       Roughness& roughness,
+                                       Roughness& roughness, NeighbourSamples& neighbours,
                                        const std::vector<SurfaceSignature>& samples,
                                        const std::vector<int>& source_vertices, const Transformation& T,
                                        double radius, double signature_tolerance, double tolerance,
@@ -63,12 +63,15 @@ CurvatureAgreement curvature_agreement(const MeshNeighbourhoods& mesh, const Sur
         const SurfaceSignature& a = *on_patch[i];
         ClosestPoint image = surface.closest(T.apply(a.position), tolerance);
         // The neighbouring point: a step along the first principal direction, back on the surface.
-        ClosestPoint beside = surface.closest(a.position + step * a.direction1, step);
+        NeighbourSamples::Neighbour& neighbour = neighbours.at(
+            size_t(on_patch[i] - samples.data()), [&] { return surface.closest(a.position + step * a.direction1, step); });
+        const ClosestPoint& beside = neighbour.point;
         if (!image.found || !beside.found) continue;
         ClosestPoint beside_image = surface.closest(T.apply(beside.point), tolerance);
         if (!beside_image.found) continue;
         const SurfaceSignature b = curvature.at({image.point, image.face}, radius, workspace);
-        const SurfaceSignature a2 = curvature.at({beside.point, beside.face}, radius, workspace);
+        if (!neighbour.signature) neighbour.signature = curvature.at({beside.point, beside.face}, radius, workspace);
+        const SurfaceSignature& a2 = *neighbour.signature;
         const SurfaceSignature b2 = curvature.at({beside_image.point, beside_image.face}, radius, workspace);
         ++result.tested;
         rough_source.push_back(roughness.at(mesh.faces[size_t(a.face)][0]));

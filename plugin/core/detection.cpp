@@ -520,6 +520,7 @@ class Verifier {
     struct Worker {
         std::unique_ptr<CurvatureEstimator::Workspace> workspace;
         std::unique_ptr<Roughness> roughness;
+        std::unique_ptr<NeighbourSamples> neighbours;  // of the samples votes_.P
     };
 
 public:
@@ -530,6 +531,7 @@ public:
         for (Worker& w : workers_) {
             w.workspace = curvature_.workspace();
             w.roughness = std::make_unique<Roughness>(mesh_, options.denoising);
+            w.neighbours = std::make_unique<NeighbourSamples>(votes.P.size());
         }
         const double radius = model.radius;
         vo_ = options.verification;
@@ -849,7 +851,7 @@ private:
     Assessment assess(const VerifiedSymmetry& s, Worker& worker) const {
         Assessment a;
         const CurvatureAgreement agreement =
-            curvature_agreement(mesh_, surface_, curvature_, *worker.workspace, *worker.roughness, votes_.P,
+            curvature_agreement(mesh_, surface_, curvature_, *worker.workspace, *worker.roughness, *worker.neighbours, votes_.P,
                                 s.source_vertices, s.transform, model_.radius, options_.signature_tolerance,
                                 vo_.tolerance, options_.agreement);
         a.agrees = agreement.passes(options_.agreement, s.source_area / model_.total_area);

@@ -31,6 +31,7 @@ TEST(CurvatureAgreement, TellsACopyFromATwistedTouch) {
     const double diagonal = mesh.bbox.Diag(), radius = 0.01 * diagonal, tolerance = 0.01 * diagonal;
     std::mt19937_64 rng(5);
     std::vector<SurfaceSignature> samples = compute_signatures(mesh, uniform_area_sampling(mesh, 20000, rng), radius);
+    NeighbourSamples neighbours(samples.size());
 
     // The patch: the base's vertices within 0.6 of a point p0 on it.
     const Eigen::Vector3d p0 = n.positions[100];
@@ -39,7 +40,7 @@ TEST(CurvatureAgreement, TellsACopyFromATwistedTouch) {
         if ((n.positions[size_t(v)] - p0).norm() < 0.6) patch.push_back(v);
     const CurvatureAgreementOptions options;
     CurvatureAgreement copy_agreement =
-        curvature_agreement(n, surface, curvature, *workspace, roughness, samples, patch, planted, radius, 0.05, tolerance, options);
+        curvature_agreement(n, surface, curvature, *workspace, roughness, neighbours, samples, patch, planted, radius, 0.05, tolerance, options);
     EXPECT_GT(copy_agreement.tested, 20);
     EXPECT_TRUE(copy_agreement.passes(options, 0.02));
 
@@ -50,7 +51,7 @@ TEST(CurvatureAgreement, TellsACopyFromATwistedTouch) {
     Transformation twist;
     twist.rotation = Eigen::AngleAxisd(M_PI / 2, normal.normalized()).toRotationMatrix();
     twist.translation = p0 - twist.rotation * p0;
-    CurvatureAgreement touch = curvature_agreement(n, surface, curvature, *workspace, roughness, samples, patch, planted * twist,
+    CurvatureAgreement touch = curvature_agreement(n, surface, curvature, *workspace, roughness, neighbours, samples, patch, planted * twist,
                                                    radius, 0.05, tolerance, options);
     EXPECT_GT(touch.tested, 3);
     EXPECT_FALSE(touch.passes(options, 0.02));
