@@ -1,6 +1,7 @@
 #include "continuous_families.h"
 
 #include "kd_tree.h"
+#include "statistics.h"
 #include "verification.h"
 
 #include <Eigen/Dense>
@@ -556,12 +557,7 @@ SurfaceRoughness surface_roughness(const MeshNeighbourhoods& mesh) {
             }
         if (count > 0) offsets.push_back(std::abs(offset[v] - sum / count));
     }
-    auto median = [](std::vector<double>& x) {
-        if (x.empty()) return 0.0;
-        std::nth_element(x.begin(), x.begin() + long(x.size() / 2), x.end());
-        return x[x.size() / 2];
-    };
-    return {median(tilts), median(offsets)};
+    return {median(std::move(tilts)), median(std::move(offsets))};
 }
 
 FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
@@ -595,10 +591,7 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
             magnitudes.push_back(cp.distance);
             if (std::abs(cp.signed_distance) < std::abs(best[i])) best[i] = cp.signed_distance;
         }
-        if (!magnitudes.empty()) {
-            std::nth_element(magnitudes.begin(), magnitudes.begin() + long(magnitudes.size() / 2), magnitudes.end());
-            check.median_deviation = std::max(check.median_deviation, magnitudes[magnitudes.size() / 2]);
-        }
+        if (!magnitudes.empty()) check.median_deviation = std::max(check.median_deviation, median(std::move(magnitudes)));
         // Too little left over the patch to tell: the member does not hold.
         const double share = tested >= int(family.vertices.size() / 4) ? double(landed) / double(tested) : 0.0;
         if (!faces.areas.empty()) area_coverage = std::min(area_coverage, area_share_mapped(faces, surface, T, tolerance));

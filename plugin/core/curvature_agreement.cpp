@@ -1,5 +1,7 @@
 #include "curvature_agreement.h"
 
+#include "statistics.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,11 +21,9 @@ bool CurvatureAgreement::passes(const CurvatureAgreementOptions& options, double
 namespace {
 
 // The median of the measurable values (0 if none).
-double median(std::vector<double> values) {
+double median_of_measured(std::vector<double> values) {
     values.erase(std::remove_if(values.begin(), values.end(), [](double x) { return std::isnan(x); }), values.end());
-    if (values.empty()) return 0;
-    std::nth_element(values.begin(), values.begin() + long(values.size() / 2), values.end());
-    return values[values.size() / 2];
+    return median(std::move(values));
 }
 
 // Whether two signatures agree, the second seen through the linear map `L` (a rotation,
@@ -80,8 +80,8 @@ CurvatureAgreement curvature_agreement(const MeshNeighbourhoods& mesh, const Sur
         result.beside_source += agree(a, a2, identity, radius, signature_tolerance, min_cosine);
         result.beside_image += agree(b, b2, identity, radius, signature_tolerance, min_cosine);
     }
-    result.roughness_source = median(std::move(rough_source));
-    result.roughness_image = median(std::move(rough_image));
+    result.roughness_source = median_of_measured(std::move(rough_source));
+    result.roughness_image = median_of_measured(std::move(rough_image));
     return result;
 }
 

@@ -1,6 +1,7 @@
 #include "region_growing.h"
 
 #include "point_cloud.h"
+#include "statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -152,9 +153,7 @@ double median_edge_length(const MeshNeighbourhoods& mesh, const DebrisRule& debr
             if (mesh.neighbours[size_t(k)] > v)
                 lengths.push_back((mesh.positions[size_t(mesh.neighbours[size_t(k)])] - mesh.positions[size_t(v)]).norm());
     }
-    if (lengths.empty()) return 0;
-    std::nth_element(lengths.begin(), lengths.begin() + long(lengths.size() / 2), lengths.end());
-    return lengths[lengths.size() / 2];
+    return median(std::move(lengths));
 }
 
 double patch_area(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices, const std::vector<char>& member) {

@@ -2,6 +2,7 @@
 
 #include "kd_tree.h"
 #include "point_cloud.h"
+#include "statistics.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -235,12 +236,7 @@ CurvatureEstimator::CurvatureEstimator(const Mesh& mesh) : data_(std::make_uniqu
     std::vector<double> lengths;
     lengths.reserve(d.edges.size());
     for (const Edge& e : d.edges) lengths.push_back((e.p1 - e.p0).norm());
-    double piece = 0;
-    if (!lengths.empty()) {
-        std::vector<double> sorted = lengths;
-        std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
-        piece = 2 * sorted[sorted.size() / 2];
-    }
+    const double piece = 2 * median(lengths);
     std::vector<Eigen::Vector3d> midpoints;
     for (size_t i = 0; i < d.edges.size(); ++i) {
         const int pieces = piece > 0 ? std::max(1, int(std::ceil(lengths[i] / piece))) : 1;

@@ -1,5 +1,7 @@
 #include "verification.h"
 
+#include "statistics.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -291,8 +293,7 @@ double median_magnitude(const std::vector<double>& values) {
     std::vector<double> magnitudes;
     magnitudes.reserve(values.size());
     for (double d : values) magnitudes.push_back(std::abs(d));
-    std::nth_element(magnitudes.begin(), magnitudes.begin() + long(magnitudes.size() / 2), magnitudes.end());
-    return magnitudes[magnitudes.size() / 2];
+    return median(std::move(magnitudes));
 }
 
 // Step 4b: the deviation is coherent under the tolerance: most of the patch maps closely
