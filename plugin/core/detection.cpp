@@ -501,6 +501,14 @@ std::vector<char> flags(int count, const std::vector<int>& vertices) {
     return f;
 }
 
+// Two patches as one: their vertices, both increasing, merged without repeats.
+std::vector<int> sorted_union(const std::vector<int>& a, const std::vector<int>& b) {
+    std::vector<int> both;
+    both.reserve(a.size() + b.size());
+    std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
+    return both;
+}
+
 double overlap(const std::vector<int>& a, const std::vector<int>& b) {  // |a ∩ b| / |a|, both sorted
     std::vector<int> common;
     std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
@@ -856,9 +864,7 @@ private:
                                 vo_.tolerance, options_.agreement);
         a.agrees = agreement.passes(options_.agreement, s.source_area / model_.total_area);
         if (!a.agrees) return a;
-        std::vector<int> both;
-        std::set_union(s.source_vertices.begin(), s.source_vertices.end(), s.target_vertices.begin(),
-                       s.target_vertices.end(), std::back_inserter(both));
+        const std::vector<int> both = sorted_union(s.source_vertices, s.target_vertices);
         a.family = slippable_family(mesh_, both, vo_.tolerance, co_);
         if (a.family.kind != ContinuousKind::Discrete) {
             a.family.vertices = grow_family_patch(mesh_, a.family, both, vo_.tolerance, co_);
@@ -977,9 +983,7 @@ private:
     // slippage no longer finds the family in it (one_family).
     ContinuousFamily with_both_patches(const ContinuousFamily& known, const ContinuousFamily& found) const {
         ContinuousFamily joint = known;
-        joint.vertices.clear();
-        std::set_union(known.vertices.begin(), known.vertices.end(), found.vertices.begin(), found.vertices.end(),
-                       std::back_inserter(joint.vertices));
+        joint.vertices = sorted_union(known.vertices, found.vertices);
         centre_on_patch(joint);
         return joint;
     }
@@ -994,8 +998,7 @@ private:
     // tolerance where the fit to the whole sphere misses it by 0.01).
     std::optional<ContinuousFamily> one_family(const ContinuousFamily& a, const ContinuousFamily& b) const {
         if (a.kind != b.kind || a.kind == ContinuousKind::Discrete) return std::nullopt;
-        std::vector<int> both;
-        std::set_union(a.vertices.begin(), a.vertices.end(), b.vertices.begin(), b.vertices.end(), std::back_inserter(both));
+        std::vector<int> both = sorted_union(a.vertices, b.vertices);
         ContinuousFamily joint = slippable_family(mesh_, both, vo_.tolerance, co_);
         if (joint.kind != a.kind) return std::nullopt;
         joint.vertices = std::move(both);
