@@ -136,11 +136,11 @@ struct Correspondences {
 };
 
 void match(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights, size_t stride,
-           const SurfaceQuery& surface, const Transformation& t, double radius, Correspondences& c) {
+           const IcpMatcher& matcher, const Transformation& t, double radius, Correspondences& c) {
     c.clear();
     for (size_t i = 0; i < points.size(); i += stride) {
         Eigen::Vector3d m = t.apply(points[i]);
-        ClosestPoint cp = surface.closest(m, radius);
+        ClosestPoint cp = matcher(i, t, m, radius);
         if (!cp.found) continue;
         c.source.push_back(points[i]);
         c.moved.push_back(m);
@@ -171,6 +171,15 @@ IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const std::v
                         const SurfaceQuery& surface,
                         const Transformation& start, TransformationGroup group, double tolerance, int iterations,
                         const IcpOptions& options) {
+    const IcpMatcher closest = [&surface](size_t, const Transformation&, const Eigen::Vector3d& image, double radius) {
+        return surface.closest(image, radius);
+    };
+    return refine_by_icp(points, weights, closest, start, group, tolerance, iterations, options);
+}
+
+IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& weights,
+                        const IcpMatcher& matcher, const Transformation& start, TransformationGroup group,
+                        double tolerance, int iterations, const IcpOptions& options) {
     IcpResult result;
     result.transform = start;
     if (int(points.size()) < options.min_points) return result;
@@ -180,7 +189,7 @@ IcpResult refine_by_icp(const std::vector<Eigen::Vector3d>& points, const std::v
     Correspondences c;
     Transformation& t = result.transform;
     for (int iteration = 0; iteration < iterations; ++iteration) {
-        match(points, weights, stride, surface, t, radius, c);
+        match(points, weights, stride, matcher, t, radius, c);
         if (int(c.source.size()) < options.min_points / 2) break;
         Transformation fitted;
         if (planar) {

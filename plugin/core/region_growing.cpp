@@ -180,22 +180,33 @@ RegionGrower::RegionGrower(const MeshNeighbourhoods& mesh, const SurfaceQuery& s
       min_normal_cosine_(std::cos(options.normal_agreement_degrees * M_PI / 180.0)),
       state_(size_t(mesh.vertex_count()), kUntried), deviation_(size_t(mesh.vertex_count()), 0.0),
       landing_face_(size_t(mesh.vertex_count()), -1),
-      any_open_(std::any_of(mesh.component_open.begin(), mesh.component_open.end(), [](char o) { return o != 0; })) {}
+      any_open_(any_open_component(mesh)) {}
 
-bool RegionGrower::accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces) {
+ClosestPoint facing_landing(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, int v,
+                            const Transformation& T, double max_distance, double min_normal_cosine, bool any_open,
+                            std::vector<Eigen::Vector3d>& normals) {
     // The images of the normals of the faces around v: T(v) must land on a face that
     // agrees with one of them.
-    normals_.clear();
-    for (int k = mesh_.face_offsets[v]; k < mesh_.face_offsets[v + 1]; ++k)
-        normals_.push_back(T.apply_to_normal(mesh_.face_normals[size_t(mesh_.faces_around[size_t(k)])]));
-    const Eigen::Vector3d image = T.apply(mesh_.positions[size_t(v)]);
+    normals.clear();
+    for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k)
+        normals.push_back(T.apply_to_normal(mesh.face_normals[size_t(mesh.faces_around[size_t(k)])]));
+    const Eigen::Vector3d image = T.apply(mesh.positions[size_t(v)]);
     // Among the faces as near as the nearest one (they meet there: a crease, or separate
     // parts touching), one whose normal agrees.  Only as near: a farther face that agrees
     // (the other side of a thin plate) is not where T(v) lands.
-    const SurfaceQuery::Landing landing = surface_.landing(image, tolerance_, kTie * tolerance_, normals_, min_normal_cosine_);
-    if (!landing.nearest.found) return false;
+    const SurfaceQuery::Landing landing =
+        surface.landing(image, max_distance, kTie * max_distance, normals, min_normal_cosine);
+    if (!landing.nearest.found) return ClosestPoint{};
     // An open surface (a sheet) may face either way: the other sign counts too.
-    const ClosestPoint& cp = landing.facing.found || !any_open_ ? landing.facing : landing.facing_either_sign;
+    return landing.facing.found || !any_open ? landing.facing : landing.facing_either_sign;
+}
+
+bool any_open_component(const MeshNeighbourhoods& mesh) {
+    return std::any_of(mesh.component_open.begin(), mesh.component_open.end(), [](char o) { return o != 0; });
+}
+
+bool RegionGrower::accepts(int v, const Transformation& T, const std::vector<char>* allowed_faces) {
+    const ClosestPoint cp = facing_landing(mesh_, surface_, v, T, tolerance_, min_normal_cosine_, any_open_, normals_);
     if (!cp.found) return false;
     if (allowed_faces && !(*allowed_faces)[size_t(cp.face)]) return false;
     deviation_[size_t(v)] = cp.signed_distance;

@@ -82,6 +82,19 @@ struct RegionGrowingOptions {
     double normal_agreement_degrees = 45;
 };
 
+/// Where T maps vertex v, as region growing accepts it: the nearest point within
+/// `max_distance` of T(v) on a face whose normal agrees (cosine at least
+/// `min_normal_cosine`) with T's image of the normal of one of the faces around v, among
+/// the faces as near as the nearest one; up to sign when `any_open` (some component of the
+/// mesh is an open sheet, which may face either way).  found=false if there is none.
+/// `normals` is work space.
+ClosestPoint facing_landing(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, int v,
+                            const Transformation& T, double max_distance, double min_normal_cosine, bool any_open,
+                            std::vector<Eigen::Vector3d>& normals);
+
+/// Whether some connected component of the mesh is open (has a boundary).
+bool any_open_component(const MeshNeighbourhoods& mesh);
+
 /// What a refit between growth steps reports (see RegionGrower::grow).
 enum class RefitOutcome { Unchanged, Refitted, Hopeless };
 

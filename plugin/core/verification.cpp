@@ -36,12 +36,14 @@ namespace {
 
 // The vertices as ICP fits them: positions, each weighted by the area it stands for.
 struct FitPoints {
+    std::vector<int> vertices;
     std::vector<Eigen::Vector3d> positions;
     std::vector<double> areas;
 };
 
 FitPoints fit_points(const MeshNeighbourhoods& mesh, const std::vector<int>& vertices) {
     FitPoints p;
+    p.vertices = vertices;
     p.positions.reserve(vertices.size());
     p.areas.reserve(vertices.size());
     for (int v : vertices) {
@@ -51,9 +53,18 @@ FitPoints fit_points(const MeshNeighbourhoods& mesh, const std::vector<int>& ver
     return p;
 }
 
-IcpResult refine_by_icp(const FitPoints& points, const SurfaceQuery& surface, const Transformation& start,
-                        TransformationGroup group, int iterations, const VerificationOptions& options) {
-    return refine_by_icp(points.positions, points.areas, surface, start, group, options.tolerance, iterations,
+// ICP pairs each vertex with a face its normal agrees with, as region growing accepts
+// vertices (see the matcher overload of refine_by_icp).
+IcpResult refine_by_icp(const MeshNeighbourhoods& mesh, const FitPoints& points, const SurfaceQuery& surface,
+                        const Transformation& start, TransformationGroup group, int iterations,
+                        const VerificationOptions& options) {
+    const double min_cosine = std::cos(options.normal_agreement_degrees * M_PI / 180.0);
+    const bool any_open = any_open_component(mesh);
+    std::vector<Eigen::Vector3d> normals;
+    const IcpMatcher facing = [&](size_t i, const Transformation& T, const Eigen::Vector3d&, double radius) {
+        return facing_landing(mesh, surface, points.vertices[i], T, radius, min_cosine, any_open, normals);
+    };
+    return refine_by_icp(points.positions, points.areas, facing, start, group, options.tolerance, iterations,
                          options.icp);
 }
 
@@ -102,7 +113,7 @@ RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQ
     return [&mesh, &surface, &grower, &options, &known, &box, &known_hit, &identity_hit](const std::vector<int>& patch,
                                                                                        Transformation& t) {
         if (!options.refine_with_icp) return RefitOutcome::Unchanged;
-        IcpResult r = refine_by_icp(fit_points(mesh, patch), surface, t, options.group,
+        IcpResult r = refine_by_icp(mesh, fit_points(mesh, patch), surface, t, options.group,
                                     options.icp.iterations_while_growing, options);
         if (!r.refitted) return RefitOutcome::Unchanged;
         t = r.transform;
@@ -161,7 +172,7 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
         out.vertices.insert(out.vertices.end(), component.begin(), component.end());
         if (first) out.estimate = local;
         if (options.refine_with_icp && out.vertices.size() >= 2 * refitted_at) {
-            IcpResult r = refine_by_icp(fit_points(mesh, out.vertices), surface, out.estimate, options.group,
+            IcpResult r = refine_by_icp(mesh, fit_points(mesh, out.vertices), surface, out.estimate, options.group,
                                         options.icp.iterations_while_growing, options);
             if (r.refitted) out.estimate = r.transform;
             refitted_at = out.vertices.size();
@@ -188,7 +199,7 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
 Transformation final_fit(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const std::vector<int>& vertices,
                          const Transformation& start, const VerificationOptions& options) {
     const FitPoints points = fit_points(mesh, vertices);
-    IcpResult fit = refine_by_icp(points, surface, start, options.group, options.icp.iterations, options);
+    IcpResult fit = refine_by_icp(mesh, points, surface, start, options.group, options.icp.iterations, options);
     if (!fit.refitted) return start;
     const Transformation& T = fit.transform;
     if (!T.reflection || options.group == TransformationGroup::Reflections || std::abs(T.scale - 1) > 1e-6) return T;
@@ -200,7 +211,7 @@ Transformation final_fit(const MeshNeighbourhoods& mesh, const SurfaceQuery& sur
     Eigen::Vector3d n;
     double d;
     mirror_plane(T, n, d);
-    IcpResult mirror = refine_by_icp(points, surface, pure_mirror(n, d), TransformationGroup::Reflections,
+    IcpResult mirror = refine_by_icp(mesh, points, surface, pure_mirror(n, d), TransformationGroup::Reflections,
                                      options.icp.iterations, options);
     return mirror.refitted && mirror.rms <= options.mirror_snap_rms_ratio * fit.rms + 1e-3 * options.tolerance
                ? mirror.transform
