@@ -1613,6 +1613,71 @@ def scene_boat(seed: int = 0, deck: float = 0.08) -> Scene:
                           seed), rng)
 
 
+#: one window of the facade: (size, centre) of its boxes, the window's centre at the origin
+#: and the wall's front at z = 0, each box set 0.05 into the wall (a box standing on the
+#: front would put its back face on the wall's, facing the other way).  Two jambs, a head, a sill deeper, wider and taller than
+#: the head (no mirror across the horizontal) and a mullion off the centre (none across the
+#: vertical).  Every box is two or more detector tolerances (1 % of the diagonal) thick, and
+#: no two differ by less than that: thinner relief lies within the tolerance of the wall,
+#: and a head nearly as tall as the sill would map onto the next row's sill.
+FACADE_WINDOW = (((0.2, 1.2, 0.3), (-0.5, 0.0, 0.1)), ((0.2, 1.2, 0.3), (0.5, 0.0, 0.1)),
+                 ((1.2, 0.2, 0.3), (0.0, 0.7, 0.1)), ((1.4, 0.4, 0.5), (0.0, -0.8, 0.2)),
+                 ((0.16, 1.2, 0.2), (0.15, 0.0, 0.05)))
+
+
+def _facade_window(edge: float) -> Tuple[np.ndarray, np.ndarray]:
+    """The window's boxes, each remeshed at `edge`, as one mesh of separate closed boxes."""
+    Vs, Fs, nv = [], [], 0
+    for size, centre in FACADE_WINDOW:
+        V, F = _remesh(*box_mesh(size), edge)
+        Vs.append(V + np.asarray(centre))
+        Fs.append(F + nv)
+        nv += len(V)
+    return np.concatenate(Vs), np.concatenate(Fs)
+
+
+def scene_facade(seed: int = 0, columns: int = 4, rows: int = 2,
+                 window_faces: int = 2300, margin: float = 0.6) -> Scene:
+    """A CAD facade: a wall slab with columns x rows identical windows standing on its front,
+    each window five boxes re-tessellated on its own.  Required: the lattice's two generators
+    (one column, one row; window_0_0 onto its neighbours) and the wall's front and back
+    planes.  Every other translation of the lattice, the wall's other faces, its extrusions
+    and mirrors are optional; the windows' own boxes and the relations inside a window (a
+    jamb onto the other) are unlisted, left to the oracle (oracle_families)."""
+    rng = np.random.default_rng([seed, 45])
+    cell = np.array([1.6, 2.2, 0.0])
+    wall = np.array([columns * cell[0] + margin, rows * cell[1] + margin, 0.4])
+    b = _Builder()
+    _box(b, "wall", wall, [0, 0, -wall[2] / 2], 8000, faces_required=False,
+         mirrors_required=False)
+    for f in b.fams:
+        if f["name"] in ("wall_facez+", "wall_facez-"):
+            f["required"] = True
+    area = sum(2 * (x * y + y * z + z * x) for (x, y, z), _ in FACADE_WINDOW)
+    edge = math.sqrt(4.0 * area / (math.sqrt(3.0) * window_faces))
+    source = _facade_window(edge)
+    for i in range(columns):
+        for j in range(rows):
+            k = i * rows + j
+            origin = np.array([(i - (columns - 1) / 2) * cell[0], (j - (rows - 1) / 2) * cell[1], 0])
+            if k == 0:
+                V, F = source
+            else:
+                V, F = _facade_window(edge * (1 + 0.07 * (1 + k % 4)))
+                V = _slide_shared_vertices(V, F, source[0], rng)
+            b.add(f"window_{i}_{j}", V + origin, F)
+            if k == 0:
+                first_origin = origin
+                continue
+            T = translation(origin - first_origin)
+            b.copy_of(f"window_{i}_{j}", "window_0_0", T, 0.004)
+            b.plant(f"lattice_{i}_{j}", T, "window_0_0", f"window_{i}_{j}",
+                    required=(i, j) in ((1, 0), (0, 1)), family="lattice", power=i + j)
+    return _posed(b.build("facade", f"wall with {columns} x {rows} identical windows of five "
+                          "boxes each", seed, expected_generators={"lattice": 2},
+                          oracle_families=True), rng)
+
+
 HARD_SCENES: Dict[str, Callable[..., Scene]] = {
     "noisy_both_0.1": functools.partial(scene_noisy_both, level=0.001),
     "noisy_both_0.2": functools.partial(scene_noisy_both, level=0.002),
@@ -1639,6 +1704,7 @@ HARD_SCENES: Dict[str, Callable[..., Scene]] = {
     "torus_pair": scene_torus_pair,
     "wingnut": scene_wingnut,
     "boat": scene_boat,
+    "facade": scene_facade,
 }
 #: the hard scenes (cad_joint needs the CAD meshes, like CAD_SCENE_NAMES)
 HARD_SCENE_NAMES: Tuple[str, ...] = tuple(HARD_SCENES)

@@ -29,7 +29,7 @@ def labels(fig):
 EXACT = ("noisy_both_0.1", "noisy_both_0.2", "noisy_both_0.5", "holes", "anisotropic", "fine_row",
          "small_part_1pct", "scaled_cow", "scaled_torus", "poisson_fused", "thin_plate",
          "cylinder", "cone", "vase", "extrusion", "helix", "box", "sphere", "torus", "torus_pair",
-         "wingnut", "hammer", "boat")
+         "wingnut", "hammer", "boat", "facade")
 
 
 @pytest.mark.parametrize("name", EXACT)
@@ -69,3 +69,22 @@ def test_small_part_beside_a_large_surface_at_the_defaults():
     assert not fig["missed"], labels(fig)
     areas = [res.source_areas[r["index"]] for r in fig["reports"] if r["label"] == "correct"]
     assert min(areas) < 0.02, areas  # the small part itself, not only the base's mirror
+
+
+def test_a_facades_windows_are_a_lattice_of_two_generators():
+    """The facade's windows repeat along two directions (issue 5: discrete symmetries are
+    still found beside the wall's continuous families): every translation reported is a step
+    of the lattice, and basis reduction keeps as generators the translations by one column
+    and by one row (either sign), no more."""
+    s, res, fig = scored("facade")
+    steps = {x.name: x.transform for x in s.symmetries if x.name in ("lattice_1_0", "lattice_0_1")}
+    translations = [k for k in range(res.count) if res.kinds[k] == scenes.KIND_DISCRETE
+                    and np.allclose(res.transforms[k][:3, :3], np.eye(3), atol=1e-3)]
+    assert translations, labels(fig)
+    for k in translations:
+        assert fig["reports"][k]["label"] == "correct", labels(fig)
+    generators = [res.transforms[k][:3, 3] for k in translations if res.is_generator[k] == 1]
+    assert len(generators) == 2, (generators, labels(fig))
+    for name, T in steps.items():
+        assert any(min(np.linalg.norm(t - T[:3, 3]), np.linalg.norm(t + T[:3, 3])) < 0.01 * s.diagonal
+                   for t in generators), (name, generators)
