@@ -1637,13 +1637,14 @@ def _facade_window(edge: float) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def scene_facade(seed: int = 0, columns: int = 4, rows: int = 2,
-                 window_faces: int = 2300, margin: float = 0.6) -> Scene:
+                 window_faces: int = 2300, margin: float = 0.6, name: str = "facade") -> Scene:
     """A CAD facade: a wall slab with columns x rows identical windows standing on its front,
     each window five boxes re-tessellated on its own.  Required: the lattice's two generators
     (one column, one row; window_0_0 onto its neighbours) and the wall's front and back
     planes.  Every other translation of the lattice, the wall's other faces, its extrusions
     and mirrors are optional; the windows' own boxes and the relations inside a window (a
-    jamb onto the other) are unlisted, left to the oracle (oracle_families)."""
+    jamb onto the other) are unlisted, left to the oracle (oracle_families).  `margin` is the
+    wall's width beyond the outer windows, in all (the spacing is 1.6 by 2.2)."""
     rng = np.random.default_rng([seed, 45])
     cell = np.array([1.6, 2.2, 0.0])
     wall = np.array([columns * cell[0] + margin, rows * cell[1] + margin, 0.4])
@@ -1673,8 +1674,9 @@ def scene_facade(seed: int = 0, columns: int = 4, rows: int = 2,
             b.copy_of(f"window_{i}_{j}", "window_0_0", T, 0.004)
             b.plant(f"lattice_{i}_{j}", T, "window_0_0", f"window_{i}_{j}",
                     required=(i, j) in ((1, 0), (0, 1)), family="lattice", power=i + j)
-    return _posed(b.build("facade", f"wall with {columns} x {rows} identical windows of five "
-                          "boxes each", seed, expected_generators={"lattice": 2},
+    return _posed(b.build(name, f"wall with {columns} x {rows} identical windows of five "
+                          f"boxes each, {margin} of wall around them", seed,
+                          expected_generators={"lattice": 2},
                           oracle_families=True), rng)
 
 
@@ -1705,6 +1707,9 @@ HARD_SCENES: Dict[str, Callable[..., Scene]] = {
     "wingnut": scene_wingnut,
     "boat": scene_boat,
     "facade": scene_facade,
+    # the same windows on a wall with 4 of margin around them: a step's patch lies nearly all
+    # on the wall's planes and extrusions (whose patches take in the windows' faces too)
+    "facade_wide": functools.partial(scene_facade, margin=4.0, name="facade_wide"),
 }
 #: the hard scenes (cad_joint needs the CAD meshes, like CAD_SCENE_NAMES)
 HARD_SCENE_NAMES: Tuple[str, ...] = tuple(HARD_SCENES)

@@ -119,6 +119,9 @@ struct ContinuousFamilyOptions {
     /// ...is reported only if it covers at least this fraction of every family it touches
     /// (see drop_partial_family_relations in detection.cpp).
     double min_family_coverage = 0.8;
+    /// ...unless it holds at least this share of the area of separate parts of the mesh
+    /// (connected components), min_patch_area of them in all: it carries those parts whole.
+    double min_whole_part_share = 0.8;
     /// A discrete symmetry that is a member of a rotational or helical family (a mirror
     /// through the axis of a wingnut's hub) and whose patch lies on that family's patch for at least this share of
     /// its vertices is that family, spilled a little onto the parts beside it: not reported.

@@ -721,8 +721,9 @@ public:
     /// A discrete symmetry whose patches lie on continuous families but cover some of them
     /// only in part (a box face's strip turned onto the next face, a cylinder shifted along
     /// itself) is a family member composed with another: not reported.  One that maps whole
-    /// families onto whole families (a box's mirror, a copy of a cylinder) is.  Applied once
-    /// every family is known.
+    /// families onto whole families (a box's mirror, a copy of a cylinder) is, and so is one
+    /// that carries whole parts of the mesh (area_of_whole_parts: a facade's windows, on a
+    /// wall whose families their faces lie on).  Applied once every family is known.
     /// A family is reported when its finite members hold; a merely slippable patch (a
     /// fillet, a tubular ear) only keeps its members from being reported.
     void check_families() {
@@ -738,6 +739,7 @@ public:
     void drop_partial_family_relations() {
         auto partial = [&](const std::vector<int>& patch) {
             if (patch.empty()) return false;
+            if (area_of_whole_parts(patch) >= vo_.min_patch_area) return false;
             std::vector<int> inside(findings_.families.size(), 0);
             size_t on_families = 0;
             for (int v : patch) {
@@ -775,6 +777,26 @@ public:
                 !spilled_member(f.symmetry))
                 kept.push_back(std::move(f));
         findings_.discrete.swap(kept);
+    }
+
+    // The area of the mesh's separate parts (connected components beyond debris) of which
+    // the patch holds at least ContinuousFamilyOptions::min_whole_part_share.  A relation
+    // that carries whole parts onto others relates those parts, whatever families their
+    // faces lie on (a facade's windows, boxes whose faces slide along the wall locally); a
+    // family member composed with another only ever carries pieces of them.
+    double area_of_whole_parts(const std::vector<int>& patch) {
+        if (part_areas_.empty()) {
+            part_areas_.assign(mesh_.component_areas.size(), 0.0);
+            for (size_t v = 0; v < mesh_.positions.size(); ++v)
+                part_areas_[size_t(mesh_.component_of[v])] += mesh_.vertex_areas[v];
+            beyond_debris_ = components_beyond_debris(mesh_, vo_.debris);
+        }
+        std::vector<double> held(part_areas_.size(), 0.0);
+        for (int v : patch) held[size_t(mesh_.component_of[size_t(v)])] += mesh_.vertex_areas[size_t(v)];
+        double whole = 0;
+        for (size_t c = 0; c < held.size(); ++c)
+            if (beyond_debris_[c] && held[c] >= co_.min_whole_part_share * part_areas_[c]) whole += held[c];
+        return whole;
     }
 
     Findings take_findings(DetectionResult& result) {
@@ -1038,6 +1060,8 @@ private:
     std::vector<Transformation> tried_;
     size_t verified_ = 0;
     int skipped_members_ = 0;
+    std::vector<double> part_areas_;   // per connected component, the area of its vertices
+    std::vector<char> beyond_debris_;  // per connected component (components_beyond_debris)
 };
 
 // Rows of Γ's coordinates, one per transformation (DetectionOptions::keep_transformation_space).

@@ -29,7 +29,7 @@ def labels(fig):
 EXACT = ("noisy_both_0.1", "noisy_both_0.2", "noisy_both_0.5", "holes", "anisotropic", "fine_row",
          "small_part_1pct", "scaled_cow", "scaled_torus", "poisson_fused", "thin_plate",
          "cylinder", "cone", "vase", "extrusion", "helix", "box", "sphere", "torus", "torus_pair",
-         "wingnut", "hammer", "boat", "facade")
+         "wingnut", "hammer", "boat", "facade", "facade_wide")
 
 
 @pytest.mark.parametrize("name", EXACT)
