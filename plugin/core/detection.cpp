@@ -737,9 +737,10 @@ public:
 
     /// (After check_families: only the families that hold count.)
     void drop_partial_family_relations() {
+        const std::vector<char> beyond_debris = components_beyond_debris(mesh_, vo_.debris);
         auto partial = [&](const std::vector<int>& patch) {
             if (patch.empty()) return false;
-            if (area_of_whole_parts(patch) >= vo_.min_patch_area) return false;
+            if (area_of_whole_parts(patch, beyond_debris) >= vo_.min_patch_area) return false;
             std::vector<int> inside(findings_.families.size(), 0);
             size_t on_families = 0;
             for (int v : patch) {
@@ -779,23 +780,19 @@ public:
         findings_.discrete.swap(kept);
     }
 
-    // The area of the mesh's separate parts (connected components beyond debris) of which
-    // the patch holds at least ContinuousFamilyOptions::min_whole_part_share.  A relation
-    // that carries whole parts onto others relates those parts, whatever families their
-    // faces lie on (a facade's windows, boxes whose faces slide along the wall locally); a
-    // family member composed with another only ever carries pieces of them.
-    double area_of_whole_parts(const std::vector<int>& patch) {
-        if (part_areas_.empty()) {
-            part_areas_.assign(mesh_.component_areas.size(), 0.0);
-            for (size_t v = 0; v < mesh_.positions.size(); ++v)
-                part_areas_[size_t(mesh_.component_of[v])] += mesh_.vertex_areas[v];
-            beyond_debris_ = components_beyond_debris(mesh_, vo_.debris);
-        }
-        std::vector<double> held(part_areas_.size(), 0.0);
+    // The area of the mesh's separate parts (connected components, flagged in
+    // `beyond_debris`) of which the patch holds at least
+    // ContinuousFamilyOptions::min_whole_part_share.  A relation that carries whole parts
+    // onto others relates those parts, whatever families their faces lie on (a facade's
+    // windows, boxes whose faces slide along the wall locally); a family member composed with
+    // another only ever carries pieces of them.  (A vertex's area is a third of its faces',
+    // so a component's vertex areas add up to its component_areas.)
+    double area_of_whole_parts(const std::vector<int>& patch, const std::vector<char>& beyond_debris) const {
+        std::vector<double> held(mesh_.component_areas.size(), 0.0);
         for (int v : patch) held[size_t(mesh_.component_of[size_t(v)])] += mesh_.vertex_areas[size_t(v)];
         double whole = 0;
         for (size_t c = 0; c < held.size(); ++c)
-            if (beyond_debris_[c] && held[c] >= co_.min_whole_part_share * part_areas_[c]) whole += held[c];
+            if (beyond_debris[c] && held[c] >= co_.min_whole_part_share * mesh_.component_areas[c]) whole += held[c];
         return whole;
     }
 
@@ -1060,8 +1057,6 @@ private:
     std::vector<Transformation> tried_;
     size_t verified_ = 0;
     int skipped_members_ = 0;
-    std::vector<double> part_areas_;   // per connected component, the area of its vertices
-    std::vector<char> beyond_debris_;  // per connected component (components_beyond_debris)
 };
 
 // Rows of Γ's coordinates, one per transformation (DetectionOptions::keep_transformation_space).
