@@ -1615,9 +1615,9 @@ def scene_boat(seed: int = 0, deck: float = 0.08) -> Scene:
 
 #: one window of the facade: (size, centre) of its boxes, the window's centre at the origin
 #: and the wall's front at z = 0, each box set 0.05 into the wall (a box standing on the
-#: front would put its back face on the wall's, facing the other way).  Two jambs, a head, a sill deeper, wider and taller than
-#: the head (no mirror across the horizontal) and a mullion off the centre (none across the
-#: vertical).  Every box is two or more detector tolerances (1 % of the diagonal) thick, and
+#: front would put its back face on the wall's, facing the other way).  Two jambs, a head,
+#: a sill deeper, wider and taller than the head (no mirror across the horizontal) and a
+#: mullion off the centre (none across the vertical).  Every box is two or more detector tolerances (1 % of the diagonal) thick, and
 #: no two differ by less than that: thinner relief lies within the tolerance of the wall,
 #: and a head nearly as tall as the sill would map onto the next row's sill.
 FACADE_WINDOW = (((0.2, 1.2, 0.3), (-0.5, 0.0, 0.1)), ((0.2, 1.2, 0.3), (0.5, 0.0, 0.1)),
@@ -1656,21 +1656,20 @@ def scene_facade(seed: int = 0, columns: int = 4, rows: int = 2,
             f["required"] = True
     area = sum(2 * (x * y + y * z + z * x) for (x, y, z), _ in FACADE_WINDOW)
     edge = math.sqrt(4.0 * area / (math.sqrt(3.0) * window_faces))
+    def origin(i, j):
+        return np.array([(i - (columns - 1) / 2) * cell[0], (j - (rows - 1) / 2) * cell[1], 0])
+
     source = _facade_window(edge)
+    b.add("window_0_0", source[0] + origin(0, 0), source[1])
     for i in range(columns):
         for j in range(rows):
             k = i * rows + j
-            origin = np.array([(i - (columns - 1) / 2) * cell[0], (j - (rows - 1) / 2) * cell[1], 0])
             if k == 0:
-                V, F = source
-            else:
-                V, F = _facade_window(edge * (1 + 0.07 * (1 + k % 4)))
-                V = _slide_shared_vertices(V, F, source[0], rng)
-            b.add(f"window_{i}_{j}", V + origin, F)
-            if k == 0:
-                first_origin = origin
                 continue
-            T = translation(origin - first_origin)
+            V, F = _facade_window(edge * (1 + 0.07 * (1 + k % 4)))
+            V = _slide_shared_vertices(V, F, source[0], rng)
+            b.add(f"window_{i}_{j}", V + origin(i, j), F)
+            T = translation(origin(i, j) - origin(0, 0))
             b.copy_of(f"window_{i}_{j}", "window_0_0", T, 0.004)
             b.plant(f"lattice_{i}_{j}", T, "window_0_0", f"window_{i}_{j}",
                     required=(i, j) in ((1, 0), (0, 1)), family="lattice", power=i + j)
