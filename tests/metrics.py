@@ -393,6 +393,19 @@ def relation_error(R: np.ndarray, r: Relation, vertices: np.ndarray) -> Tuple[fl
     return (f, False) if f <= b else (b, True)
 
 
+def matched_sides(R: np.ndarray, r: Relation, vertices: np.ndarray, tol: float) -> List[np.ndarray]:
+    """The regions of r a report R's source patch may cover: r's source where R matches r
+    within tol, r's target where R^-1 does.  An involution (a mirror) matches both ways, by
+    errors that differ in the fifth decimal; its source patch is either side."""
+    if r.modulo is not None:
+        return [r.target if relation_error(R, r, vertices)[1] else r.source]
+    P = r.points(vertices)
+    sides = [r.source] if transform_distance(R, r.transform, P) <= tol else []
+    if transform_distance(np.linalg.inv(R), r.transform, P) <= tol:
+        sides.append(r.target)
+    return sides
+
+
 def _angle_ok(a: np.ndarray, b: np.ndarray, degrees: float = AXIS_DEGREES) -> bool:
     """Whether two directions agree up to sign."""
     a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
@@ -527,7 +540,7 @@ class AccuracyScorer:
             rs.label, rs.matched, rs.error = "correct", r.name, err / self.diag
             rs._key = ("relation", R, r.points(self.V, 500))
             if patch is not None:
-                regions = [x.target if inv else x.source for _, inv, x in matches]
+                regions = [side for _, _, x in matches for side in matched_sides(R, x, self.V, self.tol)]
                 rs.iou = max([_iou(patch, np.concatenate(regions))]
                              + [_iou(patch, g) for g in regions])
             return rs

@@ -279,6 +279,30 @@ def test_metrics_mirror_is_not_a_rotation():
     assert metrics.recall(s, [R])["recall"] == 0.0
 
 
+def test_metrics_iou_of_a_mirror_counts_either_side():
+    # A mirror is its own inverse: a report of it matches the planted relation both ways, by
+    # errors that differ in the fifth decimal, and its patch may lie on either copy (the
+    # filter grows it on both).  Which direction fits a hair better must not decide the IoU.
+    s = scenes.make_scene("cad_fandisk", 0, cgal_dir=cgal_meshes_dir())
+    (mirror,) = [x for x in s.symmetries if x.name == "mirror"]
+    (turn,) = [x for x in s.symmetries if x.name == "rotation"]
+    assert np.allclose(mirror.transform @ mirror.transform, np.eye(4), atol=1e-9)
+    scorer = metrics.AccuracyScorer(s)
+    relation = {r.name: r for r in scorer.relations}
+    nudge = scenes.translation([1e-5 * s.diagonal, 0, 0])
+    for R in (nudge @ mirror.transform, mirror.transform @ nudge):
+        sides = metrics.matched_sides(R, relation["mirror"], s.vertices, scorer.tol)
+        assert sorted(len(x) for x in sides) == sorted([len(mirror.source_vertices), len(mirror.target_vertices)])
+        for patch in (mirror.source_vertices, mirror.target_vertices,
+                      np.concatenate([mirror.source_vertices, mirror.target_vertices])):
+            rs = scorer.score_discrete(0, R, np.asarray(patch))
+            assert rs.label == "correct"
+            assert rs.iou == pytest.approx(1.0)
+    # a turn is no involution: only its own direction's source
+    sides = metrics.matched_sides(turn.transform, relation["rotation"], s.vertices, scorer.tol)
+    assert len(sides) == 1 and np.array_equal(sides[0], relation["rotation"].source)
+
+
 def test_metrics_small_patch_mapped_elsewhere_is_wrong():
     s = get_scene("small_part")
     (sym,) = s.symmetries
