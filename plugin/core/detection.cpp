@@ -1189,6 +1189,37 @@ std::vector<int> on_input(const Model& model, const std::vector<int>& patch) {
     return vertices;
 }
 
+// The area each vertex of a mesh stands for: a third of each face around it.
+std::vector<double> vertex_areas_of(const Mesh& mesh) {
+    std::vector<double> area(mesh.vert.size(), 0.0);
+    for (const Face& f : mesh.face) {
+        if (f.IsD()) continue;
+        const double third = vcg::DoubleArea(f) / 6;
+        for (int k = 0; k < 3; ++k) area[size_t(vcg::tri::Index(mesh, f.cV(k)))] += third;
+    }
+    return area;
+}
+
+// The vertices whose deviation is within the tolerance, and their deviations.
+void keep_within(double tolerance, std::vector<int>& vertices, std::vector<double>& deviation) {
+    size_t kept = 0;
+    for (size_t i = 0; i < vertices.size(); ++i)
+        if (std::abs(deviation[i]) <= tolerance) {
+            vertices[kept] = vertices[i];
+            deviation[kept++] = deviation[i];
+        }
+    vertices.resize(kept);
+    deviation.resize(kept);
+}
+
+// The RMS and largest deviation of the source patch.
+void summarise_deviation(VerifiedSymmetry& s) {
+    double sum = 0;
+    s.max_error = 0;
+    for (double d : s.source_deviation) { sum += d * d; s.max_error = std::max(s.max_error, std::abs(d)); }
+    s.rms_error = s.source_deviation.empty() ? 0 : std::sqrt(sum / double(s.source_deviation.size()));
+}
+
 // When the stages saw a presmoothed or simplified copy, the deviation from perfect symmetry
 // is measured again on the input: T(v) against the input surface, as Figure 1 shows it,
 // for every input vertex of the patch.
@@ -1210,10 +1241,24 @@ void measure_on_input(const Model& model, const SurfaceQuery& input, double tole
     };
     measure(s.source_vertices, s.transform, 1.0, s.source_deviation);
     measure(s.target_vertices, s.transform.inverse(), s.transform.scale, s.target_deviation);
-    double sum = 0;
-    s.max_error = 0;
-    for (double d : s.source_deviation) { sum += d * d; s.max_error = std::max(s.max_error, std::abs(d)); }
-    s.rms_error = s.source_deviation.empty() ? 0 : std::sqrt(sum / double(s.source_deviation.size()));
+    summarise_deviation(s);
+}
+
+// A patch found on a simplified copy, on the input: the copy smooths away relief smaller
+// than its edges, so a patch grown on it can take in input vertices that T does not map
+// onto the input surface (measured, a CAD part analysed at half its vertices: patches of
+// which only 73-83 % mapped within the tolerance, reported as symmetries).  The patch is
+// what T maps within the tolerance on the input, as region growing would have grown it
+// there, and a symmetry left with less than min_patch_area is dropped.  Returns whether it
+// is kept.
+bool trim_to_input(const std::vector<double>& input_vertex_area, double tolerance, double min_patch_area,
+                   VerifiedSymmetry& s) {
+    keep_within(tolerance, s.source_vertices, s.source_deviation);
+    keep_within(tolerance, s.target_vertices, s.target_deviation);
+    summarise_deviation(s);
+    s.source_area = 0;
+    for (int v : s.source_vertices) s.source_area += input_vertex_area[size_t(v)];
+    return !s.source_vertices.empty() && s.source_area >= min_patch_area;
 }
 
 // A family found on the working copy, in the input's vertices: each input vertex takes the
@@ -1397,8 +1442,13 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
     std::vector<VerifiedSymmetry> reported;
     std::vector<int> supports;
     std::vector<const ContinuousFamily*> family_of;
+    const std::vector<double> input_vertex_area =
+        model.working && !model.cloud ? vertex_areas_of(model.input) : std::vector<double>();
     for (auto& f : findings.discrete) {
         if (input_surface) measure_on_input(model, *input_surface, tolerance, f.symmetry);
+        if (!input_vertex_area.empty() &&
+            !trim_to_input(input_vertex_area, tolerance, options.min_patch_area * model.total_area, f.symmetry))
+            continue;
         reported.push_back(std::move(f.symmetry));
         supports.push_back(f.support);
         family_of.push_back(nullptr);

@@ -55,10 +55,25 @@ def test_patches_are_carried_back_to_every_vertex_of_the_input(name):
     assert min(r["iou"] for r in matched) >= 0.9, labels(fig)
     # The deviation is measured on the input surface for every input vertex of a patch:
     # small on a planted exact copy (well under the 1 % tolerance), not the copy's.
-    # (Quality is the signed deviation as a fraction of the diagonal.)
+    # (Quality is the signed deviation as a fraction of the diagonal.)  A quarter of the
+    # tolerance: a patch keeps only what maps within the tolerance on the input, so the
+    # tolerance itself bounds nothing here.
     ids = res.symmetry_id
     assert (ids >= 0).sum() > 2 * LIMIT
-    assert np.abs(res.quality[ids >= 0]).max() < 0.01
+    assert np.abs(res.quality[ids >= 0]).max() < 0.0025
+
+
+def test_a_cad_part_on_its_simplified_copy_reports_nothing_false():
+    # The copy smooths away relief smaller than its edges, so a patch grown on it can take in
+    # input vertices that its transformation does not map onto the input: the fandisk scene
+    # analysed at half its vertices gave 6 such reports, of which only 73-83 % mapped within
+    # the tolerance, before patches were trimmed to what maps on the input.
+    from conftest import cgal_meshes_dir
+    cgal_meshes_dir()
+    s, res, fig = scored("cad_fandisk", limit=len(scenes.make_scene("cad_fandisk", 0).vertices) // 2)
+    assert res.raw["working_vertices"] > 0
+    assert fig["found"] == fig["required"], (fig["missed"], labels(fig))
+    assert fig["counts"]["false"] == 0, labels(fig)
 
 
 def test_the_input_itself_is_analysed_below_the_limit():
