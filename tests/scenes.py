@@ -737,6 +737,58 @@ class Scene:
         return dataclasses.replace(self, vertices=V, faces=F, symmetries=syms, copies=copies,
                                    families=fams, clean_parts=clean, name=self.name + "_moved")
 
+    def subdivided(self, min_vertices: int) -> "Scene":
+        """The same surface with more vertices: every triangle split in four at its edges'
+        midpoints (vertices never move) until the scene has more than `min_vertices`.  Each
+        part stays one block of vertices and faces, its old vertices first.  The ground truth
+        carries over exactly: a midpoint belongs to a region (a relation's source or target,
+        a family's vertices, an oracle self-symmetry's) when both ends of its edge do.  The
+        parts' clean meshes for the oracle are the unsubdivided ones, the same surface."""
+        scene = self
+        while len(scene.vertices) <= min_vertices:
+            scene = scene._midpoint_split()
+        return scene
+
+    def _midpoint_split(self) -> "Scene":
+        blocks = sorted(self.parts.items(), key=lambda kv: kv[1][0])
+        Vs, Fs, parts, old_to_new, edge_blocks = [], [], {}, np.empty(len(self.vertices), int), []
+        nv = nf = 0
+        for name, (v0, v1, f0, f1) in blocks:
+            V, F = self.vertices[v0:v1], self.faces[f0:f1] - v0
+            E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+            edges, inverse = np.unique(E, axis=0, return_inverse=True)
+            m = len(V) + inverse.reshape(3, -1).T        # midpoints of edges (01, 12, 20)
+            a, b, c, ab, bc, ca = F[:, 0], F[:, 1], F[:, 2], m[:, 0], m[:, 1], m[:, 2]
+            Fn = np.concatenate([np.stack(t, 1) for t in
+                                 ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+            Vs.append(np.concatenate([V, 0.5 * (V[edges[:, 0]] + V[edges[:, 1]])]))
+            Fs.append(Fn + nv)
+            old_to_new[v0:v1] = nv + np.arange(len(V))
+            edge_blocks.append(edges + nv)
+            parts[name] = (nv, nv + len(Vs[-1]), nf, nf + len(Fn))
+            nv, nf = nv + len(Vs[-1]), nf + len(Fn)
+        edges = np.concatenate(edge_blocks)
+        midpoints = np.concatenate([np.arange(p[1] - len(e), p[1])
+                                    for p, e in zip(parts.values(), edge_blocks)])
+
+        def region(vertices: np.ndarray) -> np.ndarray:
+            inside = np.zeros(nv, bool)
+            inside[old_to_new[vertices]] = True
+            inside[midpoints] = inside[edges[:, 0]] & inside[edges[:, 1]]
+            return np.nonzero(inside)[0]
+
+        def carried(s: PlantedSymmetry) -> PlantedSymmetry:
+            return dataclasses.replace(s, source_vertices=region(s.source_vertices),
+                                       target_vertices=region(s.target_vertices))
+
+        clean = {name: self.clean_parts.get(name) or self.part_mesh(name) for name in self.parts}
+        out = dataclasses.replace(
+            self, vertices=np.concatenate(Vs), faces=np.concatenate(Fs), parts=parts,
+            symmetries=[carried(s) for s in self.symmetries], clean_parts=clean,
+            families=[dataclasses.replace(f, vertices=region(f.vertices)) for f in self.families])
+        out.__dict__["_self_symmetries"] = [carried(s) for s in self.self_symmetries()]
+        return out
+
     def to_pymeshlab(self):
         import pymeshlab
         return pymeshlab.Mesh(self.vertices, self.faces)

@@ -190,6 +190,24 @@ def test_moved_scene_keeps_ground_truth():
     assert part_closed_volume(*m.part_mesh("mirror")) > 0
 
 
+def test_subdivided_scene_keeps_surface_and_ground_truth():
+    # accuracy.py --above-working-resolution scores the filter on scenes split this way.
+    s = get_scene("rigid")
+    d = s.subdivided(50000)
+    assert len(d.vertices) > 50000 and len(d.faces) == 4 * len(s.faces)
+    assert d.area() == pytest.approx(s.area(), rel=1e-12)
+    assert np.array_equal(d.vertices[d.part_vertices("base")][:len(s.part_vertices("base"))],
+                          s.vertices[s.part_vertices("base")])
+    for a, b in zip(s.symmetries, d.symmetries):
+        # the source region about quadruples (three midpoints per face, shared by two faces)
+        assert 3.5 * len(a.source_vertices) < len(b.source_vertices) < 4.5 * len(a.source_vertices)
+        # ...and is still mapped onto the target part by the planted transform
+        P = d.vertices[b.source_vertices]
+        tV, tF = d.part_mesh(b.target_part)
+        dist = scenes.point_to_surface_distance(scenes.apply(b.transform, P), tV, tF)
+        assert np.quantile(dist, 0.99) <= 0.006 * d.diagonal, (b.name, dist.max() / d.diagonal)
+
+
 def test_near_mask_matches_bruteforce():
     rng = np.random.default_rng(3)
     A = rng.random((3000, 3))
