@@ -352,35 +352,51 @@ std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& f
     return Transformation::from_linear(linear, 2 * n * n.dot(on_plane));
 }
 
-ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness) {
+namespace {
+
+ContinuousFamily plane_of_sample(const SurfaceSignature& sample, double radius) {
     ContinuousFamily family;
-    const double largest = std::max(std::abs(sample.kappa1), std::abs(sample.kappa2));
-    if (largest * radius < flatness) {
-        family.kind = ContinuousKind::Planar;
-        family.point = sample.position;
-        family.direction = sample.normal;
-        family.extent = radius;
-        Motion a, b, turn;
-        a.v = sample.direction1;
-        b.v = sample.direction2;
-        turn.omega = sample.normal;
-        turn.v = -sample.normal.cross(sample.position);
-        family.motions = {a, b, turn};
-    } else {
-        const double mean = 0.5 * (sample.kappa1 + sample.kappa2);
-        family.kind = ContinuousKind::Spherical;
-        family.radius = 1 / std::abs(mean);
-        family.point = sample.position - sample.normal / mean;  // the outward normal points away from a convex centre
-        family.extent = radius;
-        for (int a = 0; a < 3; ++a) {
-            const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
-            Motion m;
-            m.omega = axis;
-            m.v = -axis.cross(family.point);
-            family.motions.push_back(m);
-        }
+    family.kind = ContinuousKind::Planar;
+    family.point = sample.position;
+    family.direction = sample.normal;
+    family.extent = radius;
+    Motion a, b, turn;
+    a.v = sample.direction1;
+    b.v = sample.direction2;
+    turn.omega = sample.normal;
+    turn.v = -sample.normal.cross(sample.position);
+    family.motions = {a, b, turn};
+    return family;
+}
+
+ContinuousFamily sphere_of_sample(const SurfaceSignature& sample, double radius) {
+    ContinuousFamily family;
+    const double mean = 0.5 * (sample.kappa1 + sample.kappa2);
+    family.kind = ContinuousKind::Spherical;
+    family.radius = 1 / std::abs(mean);
+    family.point = sample.position - sample.normal / mean;  // the outward normal points away from a convex centre
+    family.extent = radius;
+    for (int a = 0; a < 3; ++a) {
+        const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
+        Motion m;
+        m.omega = axis;
+        m.v = -axis.cross(family.point);
+        family.motions.push_back(m);
     }
     return family;
+}
+
+}  // namespace
+
+std::vector<ContinuousFamily> families_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness) {
+    const double largest = std::max(std::abs(sample.kappa1), std::abs(sample.kappa2));
+    if (!(largest * radius < flatness)) return {sphere_of_sample(sample, radius)};
+    // Flat within the ball, yet a sphere larger than the ball is flat there too: a whole
+    // sphere's curvature times the default radius (1 % of its diagonal, 2 sqrt(3) radii) is
+    // 0.035.  Its plane stops growing after a few faces (shape_tangency_degrees); the sphere
+    // of the sample's curvature, where both curvatures bend the same way, is tried next.
+    if (sample.kappa1 * sample.kappa2 > 0) return {plane_of_sample(sample, radius), sphere_of_sample(sample, radius)};
+    return {plane_of_sample(sample, radius)};
 }
 
 ContinuousFamily cylinder_of_sample(const SurfaceSignature& sample, double radius, double flatness) {

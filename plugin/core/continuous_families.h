@@ -213,11 +213,13 @@ bool is_member(const ContinuousFamily& family, const Transformation& T, double t
 std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& family, const Transformation& T,
                                                        double degrees);
 
-/// The family a sample that umbilic pruning (§2.1) discarded suggests: the plane through
-/// it for a flat sample (largest |κ| r below `flatness`), else the sphere of its mean
-/// curvature.  Its patch is left empty, to be grown (grow_family_patch) and refined
-/// (slippable_family on the grown patch).
-ContinuousFamily family_of_pruned_sample(const SurfaceSignature& sample, double radius, double flatness);
+/// The families a sample that umbilic pruning (§2.1) discarded suggests, to be tried in
+/// this order: for a flat sample (largest |κ| r below `flatness`) the plane through it,
+/// then, if both its curvatures bend the same way, the sphere of its mean curvature (a
+/// sphere larger than the ball); for any other, that sphere alone.  Their patches are left
+/// empty, to be grown (grow_family_patch) and refined (slippable_family on the grown patch).
+std::vector<ContinuousFamily> families_of_pruned_sample(const SurfaceSignature& sample, double radius,
+                                                        double flatness);
 
 /// The cylinder a sample suggests when one principal curvature vanishes (|κ| r below
 /// `flatness`) and the other does not: its axis runs along the direction of the vanishing

@@ -675,23 +675,31 @@ public:
     /// The planar and spherical patches around the samples umbilic pruning discarded
     /// (§2.1): their pairs would trace curves in Γ, so they never vote, and these families
     /// are grown directly: the plane or sphere a discarded sample suggests, grown over the
-    /// mesh, refined by slippage, kept when large enough.
+    /// mesh, refined by slippage, kept when large enough (the first that is, of the
+    /// families the sample suggests).
     void add_families_of_discarded_samples() {
         std::vector<char> covered(size_t(mesh_.vertex_count()), 0);
         for (const SurfaceSignature& sample : votes_.discarded) {
             const int seed = seed_vertex(model_, sample);
             if (covered[size_t(seed)]) continue;
-            ContinuousFamily family = family_of_pruned_sample(sample, model_.radius, options_.flatness);
-            family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, co_);
             covered[size_t(seed)] = 1;
-            for (int v : family.vertices) covered[size_t(v)] = 1;
-            if (area_of(mesh_, family.vertices, scratch_) < vo_.min_patch_area) continue;
-            ContinuousFamily refined = slippable_family(mesh_, family.vertices, vo_.tolerance, co_);
-            if (refined.kind != family.kind) continue;
-            refined.vertices = grow_family_patch(mesh_, refined, family.vertices, vo_.tolerance, co_);
-            for (int v : refined.vertices) covered[size_t(v)] = 1;
-            record_family(std::move(refined), 0);
+            for (ContinuousFamily& family : families_of_pruned_sample(sample, model_.radius, options_.flatness))
+                if (grow_family_of_seed(std::move(family), seed, covered)) break;
         }
+    }
+
+    /// Grows `family` from `seed`, refines it by slippage and records it if it keeps its
+    /// kind and covers min_patch_area; marks what it grew over as covered.
+    bool grow_family_of_seed(ContinuousFamily family, int seed, std::vector<char>& covered) {
+        family.vertices = grow_family_patch(mesh_, family, {seed}, vo_.tolerance, co_);
+        for (int v : family.vertices) covered[size_t(v)] = 1;
+        if (area_of(mesh_, family.vertices, scratch_) < vo_.min_patch_area) return false;
+        ContinuousFamily refined = slippable_family(mesh_, family.vertices, vo_.tolerance, co_);
+        if (refined.kind != family.kind) return false;
+        refined.vertices = grow_family_patch(mesh_, refined, family.vertices, vo_.tolerance, co_);
+        for (int v : refined.vertices) covered[size_t(v)] = 1;
+        record_family(std::move(refined), 0);
+        return true;
     }
 
     /// The cylinders among the kept samples: a thin cylinder on a larger body (a boat's mast)

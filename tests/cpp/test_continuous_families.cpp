@@ -220,6 +220,33 @@ TEST(ContinuousFamilies, ACylindersSamplesSuggestItsAxis) {
     EXPECT_EQ(cylinder_of_sample(saddle, radius, flatness).kind, ContinuousKind::Discrete);
 }
 
+TEST(ContinuousFamilies, ASphereFlatWithinTheBallStillSuggestsItself) {
+    // A whole sphere bends by 0.035 of a ball of 1 % of its diagonal: its samples are flat by
+    // the pruning's bound, and the plane each suggests comes first; its own sphere follows.
+    const double R = 1.0, flatness = 0.05;
+    Analysed a;
+    analyse(sphere(R, 6), a);
+    const double radius = 0.01 * a.diagonal;
+    std::mt19937_64 rng(3);
+    for (const SurfaceSignature& s : compute_signatures(a.mesh, uniform_area_sampling(a.mesh, 50, rng), radius)) {
+        ASSERT_LT(std::max(std::abs(s.kappa1), std::abs(s.kappa2)) * radius, flatness);
+        const std::vector<ContinuousFamily> suggested = families_of_pruned_sample(s, radius, flatness);
+        ASSERT_EQ(suggested.size(), 2u);
+        EXPECT_EQ(suggested[0].kind, ContinuousKind::Planar);
+        EXPECT_EQ(suggested[1].kind, ContinuousKind::Spherical);
+        EXPECT_LT(suggested[1].point.norm(), 0.1 * R);  // the centre, within the curvature's error
+        EXPECT_NEAR(suggested[1].radius, R, 0.1 * R);
+    }
+    SurfaceSignature saddle;  // flat within the ball, bending both ways: a plane's only
+    saddle.kappa1 = -0.1, saddle.kappa2 = 0.2;
+    EXPECT_EQ(families_of_pruned_sample(saddle, 0.1, flatness).size(), 1u);
+    SurfaceSignature curved;  // bending beyond the bound: its sphere alone
+    curved.kappa1 = curved.kappa2 = 2;
+    const std::vector<ContinuousFamily> sphere_only = families_of_pruned_sample(curved, 0.1, flatness);
+    ASSERT_EQ(sphere_only.size(), 1u);
+    EXPECT_EQ(sphere_only[0].kind, ContinuousKind::Spherical);
+}
+
 TEST(ContinuousFamilies, ABandOfAConeIsNoCylinder) {
     // A cylinder and a cone of half-angle about 10 degrees share an axis; the cylinder
     // family's patch lies on one cylinder, a band of the cone (a tenth of its height) not.

@@ -71,6 +71,20 @@ def test_small_part_beside_a_large_surface_at_the_defaults():
     assert min(areas) < 0.02, areas  # the small part itself, not only the base's mirror
 
 
+def test_a_finely_tessellated_sphere_is_a_spherical_family():
+    """A whole sphere bends by 0.035 of the default curvature radius across its ball, under
+    the flatness bound: its samples are pruned as flat, and the plane each suggests stops
+    after a few faces.  On a coarse sphere the radius grows to hold min_radius_in_edges edges
+    and they look curved; the same sphere with every triangle split (151,000 vertices, so
+    analysed on a copy of 50,000) made the filter refuse the mesh as all flat or umbilic."""
+    import metrics
+    s = scenes.make_scene("sphere", 0).subdivided(50000)
+    res = metrics.run_filter(s, create_patch_layers=True)
+    fig = metrics.accuracy(s, res)
+    assert fig["found"] == fig["required"] == 1, (fig["missed"], labels(fig))
+    assert fig["counts"]["false"] == 0, labels(fig)
+
+
 def test_a_facades_windows_are_a_lattice_of_two_generators():
     """The facade's windows repeat along two directions (issue 5: discrete symmetries are
     still found beside the wall's continuous families): every translation reported is a step
