@@ -624,6 +624,7 @@ public:
         ++verified_;
         const size_t families = findings_.families.size();
         if (!ahead) ahead = speculate(candidate);
+        mark_tried(candidate);
         const Assessment assessment = std::move(ahead->assessment);
         if (auto verified = settle(std::move(*ahead), candidate))
             classify(std::move(*verified), assessment, candidate.height);
@@ -656,6 +657,40 @@ public:
             explained_count_ = found;
         }
         return share_of_votes_between(candidate, endpoints_, explained_, explained_) >= 0.8;
+    }
+
+    /// Whether the first pass leaves the candidate to the second: most of its votes join
+    /// points on what was found already, or near the votes of clusters verified before.
+    bool inside_what_was_verified(const Candidate& candidate) {
+        return inside_explained_patches(candidate) ||
+               (!tried_region_.empty() &&
+                share_of_votes_between(candidate, endpoints_, tried_region_, tried_region_) >= 0.8);
+    }
+
+    /// Marks the mesh within tried_region_radius of both ends of every vote of a cluster
+    /// verified, over mesh neighbours (a ball of it, unless the surface folds back within
+    /// the radius).
+    void mark_tried(const Candidate& candidate) {
+        if (tried_region_.empty()) tried_region_.assign(size_t(mesh_.vertex_count()), 0);
+        const double radius = options_.tried_region_radius * model_.radius;
+        std::vector<int> stack;
+        for (int v : candidate.votes)
+            for (int end : {endpoints_[size_t(v)].first, endpoints_[size_t(v)].second}) {
+                if (tried_region_[size_t(end)]) continue;  // its ball was marked, or most of it
+                const Eigen::Vector3d centre = mesh_.positions[size_t(end)];
+                tried_region_[size_t(end)] = 1;
+                stack.assign(1, end);
+                while (!stack.empty()) {
+                    const int u = stack.back();
+                    stack.pop_back();
+                    for (int k = mesh_.neighbour_offsets[size_t(u)]; k < mesh_.neighbour_offsets[size_t(u) + 1]; ++k) {
+                        const int w = mesh_.neighbours[size_t(k)];
+                        if (tried_region_[size_t(w)] || (mesh_.positions[size_t(w)] - centre).norm() > radius) continue;
+                        tried_region_[size_t(w)] = 1;
+                        stack.push_back(w);
+                    }
+                }
+            }
     }
 
     /// The votes of the newest family's members: pairs on its patch whose transformation
@@ -1060,6 +1095,7 @@ private:
     Findings findings_;
     std::vector<std::vector<char>> family_flags_;
     std::vector<char> explained_;  // vertices on any found patch, see inside_explained_patches
+    std::vector<char> tried_region_;  // near the votes of every cluster verified, see mark_tried
     std::vector<char> scratch_ = std::vector<char>(size_t(mesh_.vertex_count()), 0);  // for area_of
     size_t explained_count_ = 0;
     std::vector<Transformation> tried_;
@@ -1102,7 +1138,7 @@ void speculate_ahead(Verifier& verifier, const std::vector<Candidate>& candidate
     std::vector<size_t> batch{first};
     for (size_t j = first + 1; j < candidates.size() && batch.size() < width; ++j) {
         if (ahead.count(j) || !verifier.would_verify(candidates[j])) continue;
-        if (outside_explained_only && verifier.inside_explained_patches(candidates[j])) continue;
+        if (outside_explained_only && verifier.inside_what_was_verified(candidates[j])) continue;
         // Tried once the batch's own relations are: it would be skipped in its turn.
         if (std::any_of(batch.begin(), batch.end(), [&](size_t b) {
                 return verifier.same_relation(candidates[j].transform, candidates[b].transform);
@@ -1145,9 +1181,10 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
     Verifier verifier(model, votes, space, options);
     verifier.add_families_of_discarded_samples();
     double reclustering = 0;
-    // Two passes: first the clusters whose votes fall outside what is explained already,
-    // then the rest.  A large verified symmetry (a model's global mirror) leaves many
-    // clusters of near-misses on its own patches; in vote order they would spend the
+    // Two passes: first the clusters whose votes fall outside what is explained already
+    // and away from those verified before, then the rest.  A large verified symmetry (a
+    // model's global mirror) leaves many clusters of near-misses on its own patches, and a
+    // smooth body many of chance near-mirrors that fail; in vote order they would spend the
     // verification budget before the cluster of a small repeated part elsewhere.
     // The first pass may spend only part of the budget: on a model whose unexplained rest
     // is all near-misses, the second pass must still reach the large symmetries' neighbours
@@ -1158,7 +1195,7 @@ Findings search(const Model& model, const Votes& votes, const TransformationSpac
         const size_t budget = pass == 0 ? first_pass_budget : max_verified;
         for (size_t i = 0; i < candidates.size() && !verifier.done(budget); ++i) {
             if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
-            if (pass == 0 && verifier.inside_explained_patches(candidates[i])) continue;
+            if (pass == 0 && verifier.inside_what_was_verified(candidates[i])) continue;
             if (!ahead.count(i) && verifier.would_verify(candidates[i]))
                 speculate_ahead(verifier, candidates, i, pass == 0, budget - verifier.verified(),
                                 options.candidates_per_thread, ahead);
