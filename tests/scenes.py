@@ -1422,7 +1422,10 @@ def scene_thin_plate(seed: int = 0, n_faces: int = 24000, half_thickness: float 
     apart where no bump rises (a translation across the plate maps positions there, not
     normals); a dome and sixteen random bumps curve them, so that no patch of a face of more
     than about 1 % of the area is a plane within a tenth of the detector's 1 % tolerance
-    (gently bulging faces are reported as planes, rightly)."""
+    (gently bulging faces are reported as planes, rightly).  The rim is a band ruled along
+    the plate's normal, and where the outline has an inflection a strip of it is that flat
+    (one of 1.4 % of the area was found on the scene split above 50,000 vertices): a
+    continuous report is the oracle's to judge."""
     rng = np.random.default_rng([seed, 16])
     a = rng.uniform(0, 2 * np.pi, 3)
     phi = 2 * np.pi * np.arange(n_around) / n_around
@@ -1450,7 +1453,7 @@ def scene_thin_plate(seed: int = 0, n_faces: int = 24000, half_thickness: float 
     _analytic_part(b, "plate", dense, n_faces)
     b.plant("mid_plane_mirror", mirror([0, 0, 1]), "plate", "plate")
     return _posed(b.build("thin_plate", "a thin bumpy plate, mirror-symmetric about its "
-                          "mid-plane only", seed), rng)
+                          "mid-plane only", seed, oracle_families=True), rng)
 
 
 # -- scaled copies on other bases --------------------------------------------------------------
