@@ -76,6 +76,14 @@ struct DetectionOptions {
     /// after the 60 that are verified; passing over the regions tried, the first pass
     /// reached it 22nd at 2 radii, 14th at 3, 10th at 5).
     double tried_region_radius = 3;
+    /// When the two passes found something and the samples away from what they verified are
+    /// at most `pair_away_share` of P, a last pass verifies at most `clusters_away` more
+    /// clusters, of the votes of those samples, every one of them paired (not a share n'/n of
+    /// them): the cluster of a small part beside a large body may lie below the modes kept,
+    /// or under the minimum support (pass_over_votes_away in detection.cpp).  A number of
+    /// clusters; a share of P.
+    int clusters_away = 10;
+    double pair_away_share = 0.25;
     /// Candidates verified at once, per thread (speculate_ahead in detection.cpp).  The
     /// results do not depend on it; the time does: a batch waits for its slowest candidate,
     /// and a candidate that an earlier one of its batch explains was verified for nothing.

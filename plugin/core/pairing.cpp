@@ -48,10 +48,9 @@ bool may_be_partner(const Eigen::Vector3d& position, const PairingOptions& optio
     return !options.first_pose_below_x || position.x() >= *options.first_pose_below_x;
 }
 
-std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
-                                                   TransformationGroup group, double radius, double tolerance,
-                                                   int subset_size, double min_distance, std::mt19937_64& rng,
-                                                   const PairingOptions& options) {
+std::vector<SignaturePair> pair_drawn_samples(const std::vector<SurfaceSignature>& samples, TransformationGroup group,
+                                              double radius, double tolerance, const std::vector<int>& drawn,
+                                              double min_distance, const PairingOptions& options) {
     std::vector<SignaturePair> pairs;
     const int n = int(samples.size());
     if (n < 2) return pairs;
@@ -61,27 +60,11 @@ std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSign
     for (int i = 0; i < n; ++i) omega.row(i) = signature(samples[i], group, radius).transpose();
     KdTree tree(std::move(omega));
 
-    // P' ⊂ P drawn without replacement (partial Fisher-Yates, own draws so the result does
-    // not depend on the standard library's distributions), from the samples that may be
-    // drawn (all of them, unless two poses are paired).
-    std::vector<int> order;
-    order.reserve(size_t(n));
-    for (int i = 0; i < n; ++i)
-        if (may_be_drawn(samples[size_t(i)].position, options)) order.push_back(i);
-    const int drawable = int(order.size());
-    const int m = std::min(subset_size, drawable);
-    for (int k = 0; k < m; ++k) {
-        int j = k + int(rng() % uint64_t(drawable - k));
-        std::swap(order[k], order[j]);
-    }
-    std::sort(order.begin(), order.begin() + m);
-
     std::vector<Eigen::VectorXd> ranking(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) ranking[size_t(i)] = ranking_signature(samples[size_t(i)], group, radius);
     const double min_distance2 = min_distance * min_distance;
     const int max_partners = std::max(1, options.max_partners);
-    for (int k = 0; k < m; ++k) {
-        const int i = order[k];
+    for (const int i : drawn) {
         std::vector<std::pair<double, int>> partners;
         for (int j : tree.radius_search(tree.points().row(i).data(), tolerance)) {
             if (j == i || !may_be_partner(samples[j].position, options)) continue;
@@ -98,6 +81,30 @@ std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSign
         for (const auto& partner : partners) pairs.push_back({i, partner.second});
     }
     return pairs;
+}
+
+std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSignature>& samples,
+                                                   TransformationGroup group, double radius, double tolerance,
+                                                   int subset_size, double min_distance, std::mt19937_64& rng,
+                                                   const PairingOptions& options) {
+    const int n = int(samples.size());
+    if (n < 2) return {};
+    // P' ⊂ P drawn without replacement (partial Fisher-Yates, own draws so the result does
+    // not depend on the standard library's distributions), from the samples that may be
+    // drawn (all of them, unless two poses are paired).
+    std::vector<int> order;
+    order.reserve(size_t(n));
+    for (int i = 0; i < n; ++i)
+        if (may_be_drawn(samples[size_t(i)].position, options)) order.push_back(i);
+    const int drawable = int(order.size());
+    const int m = std::min(subset_size, drawable);
+    for (int k = 0; k < m; ++k) {
+        int j = k + int(rng() % uint64_t(drawable - k));
+        std::swap(order[k], order[j]);
+    }
+    order.resize(size_t(std::max(0, m)));
+    std::sort(order.begin(), order.end());
+    return pair_drawn_samples(samples, group, radius, tolerance, order, min_distance, options);
 }
 
 }  // namespace symmetry

@@ -64,4 +64,10 @@ std::vector<SignaturePair> pair_in_signature_space(const std::vector<SurfaceSign
                                                    int subset_size, double min_distance, std::mt19937_64& rng,
                                                    const PairingOptions& options = {});
 
+/// The same for the samples `drawn` (indices into `samples`, increasing) instead of a random
+/// subset: each is paired with its partners in P.
+std::vector<SignaturePair> pair_drawn_samples(const std::vector<SurfaceSignature>& samples, TransformationGroup group,
+                                              double radius, double tolerance, const std::vector<int>& drawn,
+                                              double min_distance, const PairingOptions& options = {});
+
 }  // namespace symmetry

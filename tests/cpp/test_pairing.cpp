@@ -61,6 +61,25 @@ TEST(Pairing, SubsetIsDeterministicAndDistinct) {
     }
 }
 
+// The last pass of the search pairs given samples (those away from what was verified):
+// each gets the partners it would get if drawn into P'.
+TEST(Pairing, GivenSamplesGetThePartnersOfADraw) {
+    std::mt19937_64 rng(13);
+    auto samples = random_samples(400, rng);
+    std::mt19937_64 draw(7);
+    auto drawn_pairs = pair_in_signature_space(samples, TransformationGroup::Rigid, 0.1, 0.05, 60, 0.1, draw);
+    std::set<int> drawn;
+    for (const auto& p : drawn_pairs) drawn.insert(p.first);
+    ASSERT_GT(drawn.size(), 30u);
+    auto given = pair_drawn_samples(samples, TransformationGroup::Rigid, 0.1, 0.05,
+                                    std::vector<int>(drawn.begin(), drawn.end()), 0.1);
+    ASSERT_EQ(given.size(), drawn_pairs.size());
+    for (size_t k = 0; k < given.size(); ++k) {
+        EXPECT_EQ(given[k].first, drawn_pairs[k].first);
+        EXPECT_EQ(given[k].second, drawn_pairs[k].second);
+    }
+}
+
 TEST(Pairing, ShapeIndexIsScaleInvariant) {
     SurfaceSignature s;
     s.kappa1 = -0.5;

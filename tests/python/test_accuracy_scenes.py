@@ -71,6 +71,23 @@ def test_small_part_beside_a_large_surface_at_the_defaults():
     assert min(areas) < 0.02, areas  # the small part itself, not only the base's mirror
 
 
+@pytest.mark.parametrize("seed", (1, 3, 5))
+def test_a_small_part_is_found_whatever_the_random_seed(seed):
+    """The part of 1 % of the area beside a cow: the cow's global mirror explains the rest,
+    and its chance near-mirrors leave the part's cluster (some 14 votes) below the modes kept,
+    or under the minimum support, at most random seeds (found at 1 of seeds 0-7 before the
+    last pass over the votes away from what was verified).  min_patch_area is set just under
+    the part's area (0.0099999 of the total): at the default 1 % the part sits on the bound,
+    and whether its patch measures above it depends on the seed."""
+    import metrics
+    s = scenes.make_scene("small_part_1pct", 0)
+    res = metrics.run_filter(s, **s.filter_params, create_patch_layers=True, random_seed=seed,
+                             min_patch_area=0.99)
+    fig = metrics.accuracy(s, res)
+    assert not fig["missed"], labels(fig)
+    assert fig["counts"]["false"] == 0, labels(fig)
+
+
 def test_a_finely_tessellated_sphere_is_a_spherical_family():
     """A whole sphere bends by 0.035 of the default curvature radius across its ball, under
     the flatness bound: its samples are pruned as flat, and the plane each suggests stops
