@@ -325,8 +325,9 @@ void add_pairs(Votes& votes, const std::vector<SignaturePair>& pairs, const Dete
     for (const SignaturePair& pair : pairs) {
         const int k = int(votes.pairs.size());
         votes.pairs.push_back(pair);
-        for (const Transformation& t : points_of_pair(votes.P[size_t(pair.first)], votes.P[size_t(pair.second)], options.group,
-                                                      options.pairing)) {
+        const SurfaceSignature& a = votes.P[size_t(pair.first)];
+        const SurfaceSignature& b = votes.P[size_t(pair.second)];
+        for (const Transformation& t : points_of_pair(a, b, options.group, options.pairing)) {
             votes.points.push_back(t);
             votes.pair_of_point.push_back(k);
         }
@@ -1220,17 +1221,18 @@ void pair_samples_away(const Model& model, Verifier& verifier, Votes& votes, con
 // The last pass: the clusters of the votes of the samples away from what was verified,
 // those samples all paired (pair_samples_away), up to DetectionOptions::clusters_away of
 // them, when something was found and those samples are at most pair_away_share of P (on a
-// scan with no symmetry the pass would cluster much of Γ again for nothing: measured on
-// the speed benchmark's, 1.0 s more clustering).  On a body whose first symmetry covers most of it (a cow's global mirror), the
-// cluster of a small part beside it may not be among the modes mean shift keeps (max_modes
-// per sheet), below the chance near-mirrors of the body, which lie on that symmetry's
-// patches; the two passes before spend their budget there.  Without the votes of those
-// patches, the part's cluster is among the first.  (A part of 1 % of the area beside a
-// cow: its cluster of 14 votes came 220th of the 480 modes at one random seed, and at
-// others after the 480th.)  After the two passes, so that it takes no result slot from
-// what they find.  Returns the seconds spent clustering.
+// scan with no symmetry the pass would cluster much of Γ again for nothing: measured on the
+// speed benchmark's, 1.0 s more clustering).  On a body whose first symmetry covers most of
+// it (a cow's global mirror), the cluster of a small part beside it may not be among the
+// modes mean shift keeps (max_modes per sheet), below the chance near-mirrors of the body,
+// which lie on that symmetry's patches; the two passes before spend their budget there.
+// Without the votes of those patches, the part's cluster is among the first.  (A part of
+// 1 % of the area beside a cow: its cluster of 14 votes came 220th of the 480 modes at one
+// random seed, and at others after the 480th.)  After the two passes, so that it takes no
+// result slot from what they find.  `active`: the votes still in Γ (families' members have
+// left).  Returns the seconds spent clustering.
 double pass_over_votes_away(const Model& model, Verifier& verifier, Votes& votes, const TransformationSpace& space,
-                            const DetectionOptions& options, int max_modes, std::vector<char>& active) {
+                            const DetectionOptions& options, int max_modes, std::vector<char> active) {
     const size_t budget = verifier.verified() + size_t(options.clusters_away);
     if (!verifier.found_anything() || verifier.done(budget)) return 0;
     std::vector<int> samples_away;
