@@ -3,8 +3,11 @@
 #include "kd_tree.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
+#include <omp.h>
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
 #include <vcg/complex/algorithms/point_sampling.h>
@@ -33,13 +36,30 @@ struct QuadricHelper {
 
 using VertexPair = vcg::tri::BasicVertexPair<Vertex>;
 
-class QuadricCollapse : public vcg::tri::TriEdgeCollapseQuadric<Mesh, VertexPair, QuadricCollapse, QuadricHelper> {
+// One collapse type per lane: vcglib dates its heap entries with a counter that is a static
+// of the collapse type (TriEdgeCollapse::GlobalMark), so two halves simplified at once must
+// not share a type, or an entry could be taken for up to date after its edge changed.
+template <int Lane>
+class QuadricCollapse
+    : public vcg::tri::TriEdgeCollapseQuadric<Mesh, VertexPair, QuadricCollapse<Lane>, QuadricHelper> {
 public:
-    using Base = vcg::tri::TriEdgeCollapseQuadric<Mesh, VertexPair, QuadricCollapse, QuadricHelper>;
+    using Base = vcg::tri::TriEdgeCollapseQuadric<Mesh, VertexPair, QuadricCollapse<Lane>, QuadricHelper>;
     QuadricCollapse(const VertexPair& p, int mark, vcg::BaseParameterClass* parameters) : Base(p, mark, parameters) {}
 };
 
-void collapse_to(Mesh& mesh, int target_faces, const WorkingMeshOptions& options) {
+// Collapses edges until the mesh has at most target_faces faces (or no collapse is left).
+// An open border's vertices are held (FastPreserveBoundary): a scan's outline keeps its
+// shape, and so does the cut between two halves.  So are the vertices `held` marks, if given.
+template <int Lane>
+void collapse_to(Mesh& mesh, int target_faces, const WorkingMeshOptions& options,
+                 const std::vector<char>* held = nullptr) {
+    if (mesh.fn <= target_faces) return;
+    vcg::tri::UpdateTopology<Mesh>::VertexFace(mesh);
+    vcg::tri::UpdateFlags<Mesh>::FaceBorderFromVF(mesh);
+    vcg::tri::UpdateFlags<Mesh>::VertexBorderFromFaceBorder(mesh);
+    if (held)  // vcglib collapses an edge only when both its ends are writable
+        for (size_t v = 0; v < mesh.vert.size(); ++v)
+            if ((*held)[v]) mesh.vert[v].ClearW();
     vcg::math::Quadric<double> zero;
     zero.SetZero();
     QuadricData quadrics(mesh.vert, zero);
@@ -47,51 +67,213 @@ void collapse_to(Mesh& mesh, int target_faces, const WorkingMeshOptions& options
     vcg::tri::TriEdgeCollapseQuadricParameter parameters;
     parameters.QualityThr = options.min_triangle_quality;
     parameters.PreserveTopology = true;
-    parameters.FastPreserveBoundary = true;  // a scan's open border keeps its outline
+    parameters.FastPreserveBoundary = true;
     parameters.NormalCheck = true;
     parameters.NormalThrRad = M_PI / 4.0;
     vcg::LocalOptimization<Mesh> session(mesh, &parameters);
-    session.Init<QuadricCollapse>();
+    session.Init<QuadricCollapse<Lane>>();
     session.SetTargetSimplices(target_faces);
     while (session.DoOptimization() && mesh.fn > target_faces) {
     }
-    session.Finalize<QuadricCollapse>();
+    session.Finalize<QuadricCollapse<Lane>>();
     QuadricHelper::data() = nullptr;
+}
+
+// A part of the input as a mesh of its own, each vertex knowing the input vertex it was.
+struct Part {
+    Mesh mesh;
+    std::vector<int> input_vertex;
+    int faces_at_cut = 0;  ///< faces with a corner on the cut, which the half cannot collapse
+};
+
+// The faces of `input` for which take(f) holds, with the vertices they use.
+template <class Take>
+void extract_part(const Mesh& input, Take take, Part& part) {
+    std::vector<int> index(input.vert.size(), -1);
+    std::vector<std::array<int, 3>> faces;
+    for (size_t f = 0; f < input.face.size(); ++f) {
+        if (input.face[f].IsD() || !take(f)) continue;
+        std::array<int, 3> corners;
+        for (int k = 0; k < 3; ++k) {
+            const size_t v = size_t(vcg::tri::Index(input, input.face[f].cV(k)));
+            if (index[v] < 0) {
+                index[v] = int(part.input_vertex.size());
+                part.input_vertex.push_back(int(v));
+            }
+            corners[size_t(k)] = index[v];
+        }
+        faces.push_back(corners);
+    }
+    auto vi = vcg::tri::Allocator<Mesh>::AddVertices(part.mesh, part.input_vertex.size());
+    for (int v : part.input_vertex) (vi++)->P() = input.vert[size_t(v)].cP();
+    auto fi = vcg::tri::Allocator<Mesh>::AddFaces(part.mesh, faces.size());
+    for (const auto& c : faces) {
+        for (int k = 0; k < 3; ++k) fi->V(k) = &part.mesh.vert[size_t(c[size_t(k)])];
+        ++fi;
+    }
+}
+
+// The input cut in two halves of about as many faces, at the median of the faces' centroids
+// along the longest side of its box: the shortest cut of a compact model, so the seam the
+// halves hold fixed is short.
+void cut_in_halves(const Mesh& input, std::array<Part, 2>& halves) {
+    const vcg::Point3d size = input.bbox.Dim();  // build_mesh has set the box
+    const int axis = size[0] >= size[1] && size[0] >= size[2] ? 0 : (size[1] >= size[2] ? 1 : 2);
+    std::vector<double> centroid(input.face.size(), 0.0);
+    std::vector<double> live;
+    for (size_t f = 0; f < input.face.size(); ++f) {
+        if (input.face[f].IsD()) continue;
+        const Face& face = input.face[f];
+        centroid[f] = (face.cP(0)[axis] + face.cP(1)[axis] + face.cP(2)[axis]) / 3;
+        live.push_back(centroid[f]);
+    }
+    std::nth_element(live.begin(), live.begin() + long(live.size() / 2), live.end());
+    const double median = live.empty() ? 0.0 : live[live.size() / 2];
+    extract_part(input, [&](size_t f) { return centroid[f] < median; }, halves[0]);
+    extract_part(input, [&](size_t f) { return centroid[f] >= median; }, halves[1]);
+    // A vertex of the cut is in both halves.
+    std::vector<char> in_first(input.vert.size(), 0);
+    for (int v : halves[0].input_vertex) in_first[size_t(v)] = 1;
+    std::vector<char> on_cut(input.vert.size(), 0);
+    for (int v : halves[1].input_vertex) on_cut[size_t(v)] = in_first[size_t(v)];
+    for (Part& h : halves)
+        for (const Face& f : h.mesh.face)
+            for (int k = 0; k < 3; ++k)
+                if (on_cut[size_t(h.input_vertex[size_t(vcg::tri::Index(h.mesh, f.cV(k)))])]) {
+                    ++h.faces_at_cut;
+                    break;
+                }
+}
+
+// The halves as one mesh again.  A vertex of the cut, held by both halves, is the same input
+// vertex in both, unmoved: it becomes one vertex, marked in `on_cut`.  Every other vertex
+// lives in one half only.
+void join(const std::array<Part, 2>& halves, size_t input_vertices, Mesh& joined, std::vector<char>& on_cut) {
+    std::vector<Vertex*> joined_vertex(input_vertices, nullptr);
+    size_t vertices = 0, faces = 0;
+    std::vector<char> counted(input_vertices, 0);
+    for (const Part& h : halves) {
+        for (size_t i = 0; i < h.mesh.vert.size(); ++i)
+            if (!h.mesh.vert[i].IsD() && !counted[size_t(h.input_vertex[i])]++) ++vertices;
+        faces += size_t(h.mesh.fn);
+    }
+    auto vi = vcg::tri::Allocator<Mesh>::AddVertices(joined, vertices);
+    auto fi = vcg::tri::Allocator<Mesh>::AddFaces(joined, faces);
+    on_cut.assign(vertices, 0);
+    for (const Part& h : halves) {
+        for (size_t i = 0; i < h.mesh.vert.size(); ++i) {
+            Vertex*& v = joined_vertex[size_t(h.input_vertex[i])];
+            if (h.mesh.vert[i].IsD()) continue;
+            if (v != nullptr) {
+                on_cut[size_t(vcg::tri::Index(joined, v))] = 1;
+                continue;
+            }
+            v = &*vi++;
+            v->P() = h.mesh.vert[i].cP();
+        }
+        for (const Face& f : h.mesh.face) {
+            if (f.IsD()) continue;
+            for (int k = 0; k < 3; ++k)
+                fi->V(k) = joined_vertex[size_t(h.input_vertex[size_t(vcg::tri::Index(h.mesh, f.cV(k)))])];
+            ++fi;
+        }
+    }
+}
+
+// Every vertex farther than `rings` edges from the cut: what the halves have simplified
+// already, held in the last pass so that it collapses only the strip along the cut.  A
+// collapse there weighs its error against the input's faces; elsewhere it would weigh it
+// against faces simplified already, and the copy would drift from the input.
+std::vector<char> away_from_cut(const Mesh& joined, const std::vector<char>& on_cut, int rings) {
+    std::vector<int> distance(joined.vert.size(), std::numeric_limits<int>::max());
+    for (size_t v = 0; v < on_cut.size(); ++v)
+        if (on_cut[v]) distance[v] = 0;
+    for (int r = 0; r < rings; ++r)
+        for (const Face& f : joined.face) {
+            int nearest = std::numeric_limits<int>::max();
+            for (int k = 0; k < 3; ++k) nearest = std::min(nearest, distance[size_t(vcg::tri::Index(joined, f.cV(k)))]);
+            if (nearest != r) continue;
+            for (int k = 0; k < 3; ++k) {
+                int& d = distance[size_t(vcg::tri::Index(joined, f.cV(k)))];
+                d = std::min(d, r + 1);
+            }
+        }
+    std::vector<char> away(joined.vert.size());
+    for (size_t v = 0; v < away.size(); ++v) away[v] = distance[v] > rings;
+    return away;
+}
+
+// The mesh's live vertices and faces as arrays, for build_mesh.
+void live_arrays(const Mesh& mesh, Eigen::MatrixX3d& V, Eigen::MatrixX3i& F) {
+    V.resize(mesh.vn, 3);
+    std::vector<int> row(mesh.vert.size(), -1);
+    int n = 0;
+    for (size_t i = 0; i < mesh.vert.size(); ++i) {
+        if (mesh.vert[i].IsD()) continue;
+        const auto& p = mesh.vert[i].cP();
+        V.row(n) << p[0], p[1], p[2];
+        row[i] = n++;
+    }
+    F.resize(mesh.fn, 3);
+    int m = 0;
+    for (const Face& f : mesh.face) {
+        if (f.IsD()) continue;
+        for (int k = 0; k < 3; ++k) F(m, k) = row[size_t(vcg::tri::Index(mesh, f.cV(k)))];
+        ++m;
+    }
+    V.conservativeResize(n, 3);
+    F.conservativeResize(m, 3);
+}
+
+// The input simplified as two halves at once, each to its share of the target with the cut
+// between them held, then joined, and the strip along the cut (left at the input's
+// resolution) collapsed in a last pass.  Quadric collapse runs on one core; the halves are
+// always two, and each is simplified alone, so the result is the same at any thread count.
+void collapse_in_halves(const Mesh& input, int target_faces, const WorkingMeshOptions& options, Mesh& joined) {
+    std::array<Part, 2> halves;  // filled in place: a vcg mesh must not be copied
+    cut_in_halves(input, halves);
+    // A half's share leaves out the faces at the cut, which it cannot collapse: spent on the
+    // rest of the half, the share would leave the last pass nothing to collapse at the cut.
+    auto share = [&](const Part& h) {
+        return int(double(target_faces) * h.mesh.fn / std::max(1, input.fn)) + h.faces_at_cut;
+    };
+#pragma omp parallel sections num_threads(std::min(2, omp_get_max_threads()))
+    {
+#pragma omp section
+        collapse_to<0>(halves[0].mesh, share(halves[0]), options);
+#pragma omp section
+        collapse_to<1>(halves[1].mesh, share(halves[1]), options);
+    }
+    std::vector<char> on_cut;
+    join(halves, input.vert.size(), joined, on_cut);
+    for (Part& h : halves) h.mesh.Clear();
+    const std::vector<char> held = away_from_cut(joined, on_cut, options.seam_rings);
+    collapse_to<0>(joined, target_faces, options, &held);
 }
 
 }  // namespace
 
 std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, const WorkingMeshOptions& options) {
-    Mesh copy;
-    vcg::tri::Append<Mesh, Mesh>::MeshCopy(copy, const_cast<Mesh&>(input));  // vcg only reads it
-    vcg::tri::UpdateTopology<Mesh>::VertexFace(copy);
-    vcg::tri::UpdateFlags<Mesh>::FaceBorderFromVF(copy);
-    vcg::tri::UpdateFlags<Mesh>::VertexBorderFromFaceBorder(copy);
     // Faces per vertex stay as in the input (2 on a closed surface, fewer on an open one).
     const double faces_per_vertex = double(input.fn) / double(std::max(1, input.vn));
-    collapse_to(copy, int(faces_per_vertex * target_vertices), options);
+    const int target_faces = int(faces_per_vertex * target_vertices);
+
+    Mesh simplified_input;
+    if (input.fn >= options.min_faces_to_halve) {
+        collapse_in_halves(input, target_faces, options, simplified_input);
+    } else {
+        vcg::tri::Append<Mesh, Mesh>::MeshCopy(simplified_input, const_cast<Mesh&>(input));  // vcg only reads it
+        collapse_to<0>(simplified_input, target_faces, options);
+    }
 
     // Through build_mesh again: it drops what the collapses left degenerate or unreferenced
     // and sets up topology, normals and the bounding box as for any input.
-    Eigen::MatrixX3d V(copy.vn, 3);
-    std::vector<int> row(copy.vert.size(), -1);
-    int n = 0;
-    for (size_t i = 0; i < copy.vert.size(); ++i) {
-        if (copy.vert[i].IsD()) continue;
-        const auto& p = copy.vert[i].cP();
-        V.row(n) << p[0], p[1], p[2];
-        row[i] = n++;
-    }
-    Eigen::MatrixX3i F(copy.fn, 3);
-    int m = 0;
-    for (const Face& f : copy.face) {
-        if (f.IsD()) continue;
-        for (int k = 0; k < 3; ++k) F(m, k) = row[size_t(vcg::tri::Index(copy, f.cV(k)))];
-        ++m;
-    }
+    Eigen::MatrixX3d V;
+    Eigen::MatrixX3i F;
+    live_arrays(simplified_input, V, F);
     auto simplified = std::make_unique<Mesh>();
     std::vector<int> unused;
-    build_mesh(V.topRows(n), F.topRows(m), *simplified, unused);
+    build_mesh(V, F, *simplified, unused);
     return simplified;
 }
 

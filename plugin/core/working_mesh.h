@@ -4,7 +4,8 @@
 // verifying it vertex by vertex costs time in proportion to the tessellation instead of the
 // symmetries (§6 claims cost that grows with the output).  A large input is therefore
 // analysed on a copy simplified by quadric edge collapse (Garland and Heckbert 1997, the
-// "Quadric Edge Collapse Decimation" of MeshLab, from vcglib), and only what is reported
+// "Quadric Edge Collapse Decimation" of MeshLab, from vcglib; a large input in two halves at
+// once, one per core, since a collapse is sequential), and only what is reported
 // is carried back to every input vertex: its patches, and its deviation measured on the
 // input surface itself.  A large point cloud is likewise analysed on a subset of its points
 // chosen by Poisson-disk pruning (vcglib's, which MeshLab's "Point Cloud Simplification"
@@ -28,6 +29,13 @@ struct WorkingMeshOptions {
     /// Collapses that would leave triangles of lower quality (radius ratio, 0..1) are
     /// penalised: vcglib's QualityThr, MeshLab's default.
     double min_triangle_quality = 0.3;
+    /// An input of at least this many faces is simplified as two halves at once (one per
+    /// core), the cut between them held, and then the strip along the cut.  A smaller one is
+    /// simplified whole on one core: it takes under a second, and on a copy that keeps few of
+    /// its faces the seam's tessellation weighs more (measured with `--working-fraction 0.5`).
+    int min_faces_to_halve = 100000;
+    /// The strip along the cut that the last pass simplifies, in edges either side of it.
+    int seam_rings = 3;
     /// A point cloud's subset: the Poisson-disk radius is corrected this many times at most...
     int poisson_attempts = 6;
     /// ...until the subset holds max_vertices points within this fraction.
@@ -37,6 +45,9 @@ struct WorkingMeshOptions {
 /// A copy of `input` simplified to about `target_vertices` vertices by quadric edge
 /// collapse that preserves the topology (no handles or components appear or vanish) and
 /// flips no face normal by more than 45 degrees, with the same setup as build_mesh gives.
+/// From options.min_faces_to_halve faces on, the two halves of the input either side of a
+/// plane are simplified at once, one per core, and then the strip along the cut
+/// (options.seam_rings): the copy is the same at any thread count.
 std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, const WorkingMeshOptions& options);
 
 /// The indices, increasing, of about `target_points` of the vertices of `cloud` (a mesh of

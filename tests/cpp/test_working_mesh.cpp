@@ -4,10 +4,12 @@
 #include "test_shapes.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 
@@ -26,13 +28,63 @@ TEST(WorkingMesh, SimplifiesToTheTargetAndKeepsTheShape) {
     const auto input_mesh = mesh_of(testing::sphere(1.0, 5));
     const Mesh& input = *input_mesh;
     ASSERT_GT(input.vn, 10000);
-    const auto copy = simplified_copy(input, 2000, WorkingMeshOptions{});
-    EXPECT_NEAR(copy->vn, 2000, 100);
-    EXPECT_EQ(copy->fn, 2 * copy->vn - 4);  // still one closed genus-0 surface (Euler)
-    // Every vertex of the copy stays near the sphere (quadric collapse keeps it within a
-    // small fraction of the edge length), and so does the area.
-    for (const auto& v : copy->vert) EXPECT_NEAR(v.cP().Norm(), 1.0, 0.01);
-    EXPECT_NEAR(surface_area(*copy), surface_area(input), 0.01 * surface_area(input));
+    for (int min_faces_to_halve : {1 << 30, 0}) {  // simplified whole, then in halves
+        WorkingMeshOptions options;
+        options.min_faces_to_halve = min_faces_to_halve;
+        const auto copy = simplified_copy(input, 2000, options);
+        EXPECT_NEAR(copy->vn, 2000, 100);
+        EXPECT_EQ(copy->fn, 2 * copy->vn - 4);  // still one closed genus-0 surface (Euler)
+        // Every vertex of the copy stays near the sphere (quadric collapse keeps it within a
+        // small fraction of the edge length), and so does the area.
+        for (const auto& v : copy->vert) EXPECT_NEAR(v.cP().Norm(), 1.0, 0.01);
+        EXPECT_NEAR(surface_area(*copy), surface_area(input), 0.01 * surface_area(input));
+    }
+}
+
+TEST(WorkingMesh, TheCutBetweenTheHalvesIsClosedAndSimplified) {
+    // The copy is simplified as two halves cut across the sphere, the cut held, then joined
+    // and the strip along the cut simplified.  The cut must leave no border (every edge
+    // between two faces) and no strip at the input's resolution: the band 0.04 wide around
+    // each coordinate plane holds 2 % of the sphere's area, so about 40 of the copy's
+    // vertices (26-41 measured).  The input's band holds about 340, and the band at the cut
+    // held 128 when the halves spent their share of the target away from it.
+    const auto input_mesh = mesh_of(testing::sphere(1.0, 5));
+    WorkingMeshOptions halved;
+    halved.min_faces_to_halve = 0;  // the sphere's 20,480 faces would be simplified whole
+    const auto copy = simplified_copy(*input_mesh, 2000, halved);
+    std::map<std::pair<const Vertex*, const Vertex*>, int> faces_at_edge;
+    for (const Face& f : copy->face)
+        for (int k = 0; k < 3; ++k) {
+            const Vertex* a = f.cV(k);
+            const Vertex* b = f.cV((k + 1) % 3);
+            ++faces_at_edge[{std::min(a, b), std::max(a, b)}];
+        }
+    for (const auto& edge : faces_at_edge) EXPECT_EQ(edge.second, 2);
+    for (int axis = 0; axis < 3; ++axis) {
+        int in_band = 0;
+        for (const auto& v : copy->vert) in_band += std::abs(v.cP()[axis]) < 0.02;
+        EXPECT_LT(in_band, 2 * 0.02 * copy->vn) << "axis " << axis;
+    }
+}
+
+TEST(WorkingMesh, TheHalvedCopyIsTheSameAtAnyThreadCount) {
+    // The halves are simplified on two threads at once, or one after the other: the copy must
+    // be the same, vertex for vertex and face for face.
+    const auto input_mesh = mesh_of(testing::sphere(1.0, 5));
+    WorkingMeshOptions halved;
+    halved.min_faces_to_halve = 0;
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const auto one = simplified_copy(*input_mesh, 2000, halved);
+    omp_set_num_threads(2);
+    const auto two = simplified_copy(*input_mesh, 2000, halved);
+    omp_set_num_threads(threads);
+    ASSERT_EQ(one->vert.size(), two->vert.size());
+    ASSERT_EQ(one->face.size(), two->face.size());
+    for (size_t i = 0; i < one->vert.size(); ++i) EXPECT_EQ(one->vert[i].cP(), two->vert[i].cP());
+    for (size_t f = 0; f < one->face.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            EXPECT_EQ(vcg::tri::Index(*one, one->face[f].cV(k)), vcg::tri::Index(*two, two->face[f].cV(k)));
 }
 
 TEST(WorkingMesh, KeepsSeparateComponents) {
@@ -41,11 +93,15 @@ TEST(WorkingMesh, KeepsSeparateComponents) {
     const testing::Shape b = testing::transformed(a, Eigen::Matrix3d::Identity(), Eigen::Vector3d(4, 0, 0));
     const auto input_mesh = mesh_of(testing::merged(a, b));
     const Mesh& input = *input_mesh;
-    const auto copy = simplified_copy(input, 1500, WorkingMeshOptions{});
-    int left = 0, right = 0;
-    for (const auto& v : copy->vert) (v.cP()[0] < 2 ? left : right)++;
-    EXPECT_NEAR(left, right, 0.1 * (left + right));
-    EXPECT_EQ(copy->fn, copy->vn * 2);  // two closed genus-1 surfaces (Euler: V - E + F = 0 each)
+    for (int min_faces_to_halve : {1 << 30, 0}) {  // simplified whole, then in halves
+        WorkingMeshOptions options;
+        options.min_faces_to_halve = min_faces_to_halve;
+        const auto copy = simplified_copy(input, 1500, options);
+        int left = 0, right = 0;
+        for (const auto& v : copy->vert) (v.cP()[0] < 2 ? left : right)++;
+        EXPECT_NEAR(left, right, 0.1 * (left + right));
+        EXPECT_EQ(copy->fn, copy->vn * 2);  // two closed genus-1 surfaces (Euler: V - E + F = 0 each)
+    }
 }
 
 TEST(WorkingMesh, NearestVerticesAgreeWithBruteForce) {
