@@ -1568,11 +1568,15 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
     std::mt19937_64 rng(options.random_seed);
     Votes votes = vote(model, options, rng, result);
     const TransformationSpace space(model.center, model.diagonal);
-    if (options.keep_transformation_space) keep_points(votes, space, result.transformation_space);
 
     // §3.1 and §4: clusters verified most votes first, with the continuous families beside.
     report(45, "Mean-shift clustering in transformation space");
     Findings findings = search(model, votes, space, options, report, result);
+    // The last pass of the search pairs more samples (pass_over_votes_away): the work done
+    // and the snapshot of Γ count its pairs too.
+    result.pairs = int(votes.pairs.size());
+    result.transformation_points = int(votes.points.size());
+    if (options.keep_transformation_space) keep_points(votes, space, result.transformation_space);
     auto start = Clock::now();
     const MeshNeighbourhoods neighbourhoods = neighbourhoods_of(model, options);
     const double tolerance = options.verification_tolerance * model.diagonal;
