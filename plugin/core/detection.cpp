@@ -364,9 +364,7 @@ Votes vote(const Model& model, const DetectionOptions& options, std::mt19937_64&
     add_pairs(votes, pair_in_signature_space(votes.P, options.group, radius, options.signature_tolerance, n_prime,
                                              2 * radius, rng, options.pairing),
               options);
-    result.pairs = int(votes.pairs.size());
     result.pairs_sample_count_used = std::min(n_prime, int(votes.P.size()));
-    result.transformation_points = int(votes.points.size());
     result.seconds_pairing = seconds_since(start);
     return votes;
 }
@@ -1572,8 +1570,8 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
     // §3.1 and §4: clusters verified most votes first, with the continuous families beside.
     report(45, "Mean-shift clustering in transformation space");
     Findings findings = search(model, votes, space, options, report, result);
-    // The last pass of the search pairs more samples (pass_over_votes_away): the work done
-    // and the snapshot of Γ count its pairs too.
+    // Read after the search: its last pass pairs more samples (pass_over_votes_away), and the
+    // work done and the snapshot of Γ count those pairs too.
     result.pairs = int(votes.pairs.size());
     result.transformation_points = int(votes.points.size());
     if (options.keep_transformation_space) keep_points(votes, space, result.transformation_space);
