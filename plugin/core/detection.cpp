@@ -596,13 +596,22 @@ public:
         bool slippable_source = false;  // the source patch alone slips along itself
     };
 
+    /// An estimate of T that verification asked about (KnownRelation), and the source
+    /// vertices it was refitted on.
+    struct Ask {
+        Transformation transform;
+        std::vector<int> patch;
+    };
+
     /// A candidate's verification run ahead of its turn, possibly on another core, against
-    /// the discrete symmetries found by then: its result, and every estimate of T that
-    /// verification asked whether it was a known relation, in order.  settle() recovers from
-    /// it what the verification in turn returns.
+    /// the discrete symmetries found and the relations rejected by then: its result, what
+    /// acceptance rejected if it did, and every estimate of T that verification asked
+    /// whether it was a relation assessed before, in order.  settle() recovers from it what
+    /// the verification in turn returns.
     struct Speculation {
         std::optional<VerifiedSymmetry> result;
-        std::vector<Transformation> asked;
+        std::optional<RejectedRelation> rejection;
+        std::vector<Ask> asked;
         Assessment assessment;  // of the result
     };
 
@@ -620,12 +629,16 @@ public:
         for (int v : candidate.votes)
             seeds.push_back({endpoints_[size_t(v)].first, space_.distance(votes_.points[size_t(v)], candidate.transform)});
         Speculation out;
-        // A candidate that converges onto a discrete symmetry found before is that symmetry's.
-        const KnownRelation known = [this, &out](const Transformation& t) {
-            out.asked.push_back(t);
-            return is_known(t);
+        // A candidate that converges onto a discrete symmetry found before is that symmetry's;
+        // one that converges onto a relation rejected before, over the same patch, would be
+        // measured as it was and rejected again.
+        const KnownRelation known = [this, &out](const Transformation& t, const std::vector<int>& patch) {
+            out.asked.push_back({t, patch});
+            return is_known(t) || rejected_over(t, patch);
         };
-        out.result = verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known);
+        RejectedRelation rejection;
+        out.result = verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known, &rejection);
+        if (!rejection.source_vertices.empty()) out.rejection = std::move(rejection);
         if (out.result) out.assessment = assess(*out.result, workers_[size_t(omp_get_thread_num())]);
         return out;
     }
@@ -650,6 +663,20 @@ public:
     bool same_relation(const Transformation& a, const Transformation& b) const {
         return space_.distance(a, b) < options_.cluster_bandwidth ||
                space_.distance(a, b.inverse()) < options_.cluster_bandwidth;
+    }
+
+    /// Whether a candidate's estimate T, refitted on `patch`, is a relation that acceptance
+    /// rejected before over most of that patch (DetectionOptions::rejected_patch_share).
+    /// Only T itself: T⁻¹ over the same patch is a different hypothesis.
+    bool rejected_over(const Transformation& T, const std::vector<int>& patch) const {
+        if (patch.empty()) return false;
+        for (const Rejected& r : rejected_) {
+            if (space_.distance(T, r.transform) >= options_.cluster_bandwidth) continue;
+            size_t inside = 0;
+            for (int v : patch) inside += size_t(r.source[size_t(v)]);
+            if (double(inside) >= options_.rejected_patch_share * double(patch.size())) return true;
+        }
+        return false;
     }
 
     /// Whether T is a discrete symmetry found already.
@@ -897,13 +924,20 @@ private:
     // only grown since it ran, so both runs computed alike up to the first estimate of T that
     // is a known relation now: there the verification in turn stops, and that relation
     // gets the candidate's votes, as classify() would give them after a full verification.
+    // The same holds for the relations rejected since it ran: the verification in turn
+    // stops at the first estimate rejected over its patch, with nothing to credit.  What
+    // the candidate's own acceptance rejected is recorded in turn, so every later candidate
+    // sees the same rejections at any thread count.
     std::optional<VerifiedSymmetry> settle(Speculation s, const Candidate& candidate) {
-        for (const Transformation& t : s.asked)
+        for (const Ask& ask : s.asked) {
             for (Found& f : findings_.discrete)
-                if (same_relation(t, f.symmetry.transform)) {
+                if (same_relation(ask.transform, f.symmetry.transform)) {
                     f.support += candidate.height;
                     return std::nullopt;
                 }
+            if (rejected_over(ask.transform, ask.patch)) return std::nullopt;
+        }
+        if (s.rejection) rejected_.push_back({s.rejection->transform, flags(mesh_.vertex_count(), s.rejection->source_vertices)});
         return std::move(s.result);
     }
 
@@ -1016,7 +1050,7 @@ private:
         for (size_t i = 0; i < patch.size(); i += stride) seeds.push_back({patch[i], 0.0});
         VerificationOptions held = vo_;
         held.refine_with_icp = false;
-        const KnownRelation known = [this](const Transformation& t) { return is_known(t); };
+        const KnownRelation known = [this](const Transformation& t, const std::vector<int>&) { return is_known(t); };
         std::optional<VerifiedSymmetry> verified = verify_candidate(mesh_, surface_, *mirror, std::move(seeds), held, known);
         if (!verified) return;
         const Assessment assessment = assess(*verified, workers_[size_t(omp_get_thread_num())]);
@@ -1137,6 +1171,11 @@ private:
     std::vector<char> scratch_ = std::vector<char>(size_t(mesh_.vertex_count()), 0);  // for area_of
     size_t explained_count_ = 0;
     std::vector<Transformation> tried_;
+    struct Rejected {
+        Transformation transform;
+        std::vector<char> source;  // flags per vertex
+    };
+    std::vector<Rejected> rejected_;  // what acceptance rejected, in turn order (settle)
     size_t verified_ = 0;
     int skipped_members_ = 0;
 };

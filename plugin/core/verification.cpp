@@ -117,7 +117,7 @@ RegionGrower::Refit growing_refit(const MeshNeighbourhoods& mesh, const SurfaceQ
                                     options.icp.iterations_while_growing, options);
         if (!r.refitted) return RefitOutcome::Unchanged;
         t = r.transform;
-        if (known && known(t)) {
+        if (known && known(t, patch)) {
             known_hit = true;
             return RefitOutcome::Hopeless;
         }
@@ -146,11 +146,10 @@ struct SourceComponents {
 
 SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                         const Transformation& mode, const std::vector<int>& seeds,
-                                        const VerificationOptions& options, const KnownRelation& known) {
+                                        const VerificationOptions& options, const KnownRelation& known,
+                                        const Eigen::AlignedBox3d& box) {
     RegionGrower grower(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
     SourceComponents out;
-    Eigen::AlignedBox3d box;
-    for (const Eigen::Vector3d& p : mesh.positions) box.extend(p);
     out.identity = moves_less_than(mode, box, options.tolerance);
     if (out.identity) return out;
     const RegionGrower::Refit refit = growing_refit(mesh, surface, grower, options, known, box, out.known, out.identity);
@@ -180,7 +179,7 @@ SourceComponents grow_source_components(const MeshNeighbourhoods& mesh, const Su
                 out.identity = true;
                 return out;
             }
-            if (known && known(out.estimate)) {
+            if (known && known(out.estimate, out.vertices)) {
                 out.known = true;
                 return out;
             }
@@ -363,19 +362,28 @@ void grow_target_side(const MeshNeighbourhoods& mesh, const SurfaceQuery& surfac
 
 std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                                  const Transformation& mode, std::vector<Seed> seeds,
-                                                 const VerificationOptions& options, const KnownRelation& known) {
+                                                 const VerificationOptions& options, const KnownRelation& known,
+                                                 RejectedRelation* rejected) {
     const std::vector<int> order = order_seeds(std::move(seeds), mesh.vertex_count());
-    SourceComponents components = grow_source_components(mesh, surface, mode, order, options, known);
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : mesh.positions) box.extend(p);
+    SourceComponents components = grow_source_components(mesh, surface, mode, order, options, known, box);
     if (components.known || components.identity || components.vertices.empty()) return std::nullopt;
 
     VerifiedSymmetry s;
     s.transform = components.estimate;
     if (options.refine_with_icp) s.transform = final_fit(mesh, surface, components.vertices, s.transform, options);
     if (std::abs(std::log(s.transform.scale / mode.scale)) > std::log(options.max_scale_change)) return std::nullopt;
+    // A final fit that slid into the identity would regrow the whole mesh under it, only for
+    // accept() to reject it as moving its patch less than the tolerance.
+    if (moves_less_than(s.transform, box, options.tolerance)) return std::nullopt;
     RegionGrower final_source(mesh, surface, {options.tolerance, options.normal_agreement_degrees});
     s.source_vertices = regrow_under_final_transform(mesh, components.vertices, s.transform, final_source, options);
     if (s.source_vertices.empty()) return std::nullopt;
-    if (!accept(mesh, final_source, s, options)) return std::nullopt;
+    if (!accept(mesh, final_source, s, options)) {
+        if (rejected) *rejected = {s.transform, s.source_vertices};
+        return std::nullopt;
+    }
     grow_target_side(mesh, surface, final_source, s, options);
     return s;
 }

@@ -113,19 +113,29 @@ struct VerifiedSymmetry {
     bool small_motion = false;
 };
 
-/// Whether a transformation is one of the relations verified before (the caller's test,
-/// which may credit that relation with the candidate's votes).
-using KnownRelation = std::function<bool(const Transformation&)>;
+/// Whether an estimate of T, refitted on `patch` (the source vertices grown so far), is a
+/// relation assessed before: the caller's test, which may credit a relation verified before
+/// with the candidate's votes, or find that T was rejected over that patch already.
+using KnownRelation = std::function<bool(const Transformation&, const std::vector<int>& patch)>;
+
+/// A candidate that converged and was then rejected by the acceptance of step 4: the
+/// transformation it converged to and the source patch regrown and measured under it.
+struct RejectedRelation {
+    Transformation transform;
+    std::vector<int> source_vertices;  ///< increasing
+};
 
 /// Verifies the candidate `mode` from its seeds (steps 1-5 above).  The result does not
 /// depend on the order of `seeds`.  Returns nothing when no patch of sufficient area is
 /// invariant under the transformation, or the patch fails the acceptance of step 4, or
 /// (with `known`) as soon as the estimate of T, refitted while the first components grow,
 /// is a relation verified before: a neighbouring mode of a large symmetry would otherwise
-/// regrow the whole patch of that symmetry only to be merged with it.
+/// regrow the whole patch of that symmetry only to be merged with it.  When the acceptance
+/// of step 4 rejects the patch, `rejected` (if given) receives what was rejected.
 std::optional<VerifiedSymmetry> verify_candidate(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface,
                                                  const Transformation& mode, std::vector<Seed> seeds,
-                                                 const VerificationOptions& options, const KnownRelation& known = {});
+                                                 const VerificationOptions& options, const KnownRelation& known = {},
+                                                 RejectedRelation* rejected = nullptr);
 
 /// The RMS over `patch` of the deviation averaged over mesh neighbours inside the patch,
 /// `iterations` times (the systematic deviation of VerificationOptions).

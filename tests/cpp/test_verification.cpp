@@ -280,7 +280,7 @@ TEST_F(RoughBoxes, ACandidateThatConvergesOntoAKnownRelationStopsThere) {
     // Known: the planted relation.  The estimate reaches it while the first component grows.
     int asked = 0;
     double nearest = INFINITY;
-    const KnownRelation planted = [&](const Transformation& t) {
+    const KnownRelation planted = [&](const Transformation& t, const std::vector<int>&) {
         ++asked;
         nearest = std::min(nearest, (t.matrix() - scene.planted.matrix()).norm());
         return (t.matrix() - scene.planted.matrix()).norm() < 1e-3;
@@ -289,12 +289,39 @@ TEST_F(RoughBoxes, ACandidateThatConvergesOntoAKnownRelationStopsThere) {
     EXPECT_GT(asked, 0);
     EXPECT_LT(nearest, 1e-3);
     // Known: something else.  The result is the one without the test.
-    const KnownRelation other = [](const Transformation&) { return false; };
+    const KnownRelation other = [](const Transformation&, const std::vector<int>&) { return false; };
     auto with = verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh), other);
     auto without = verify_candidate(n, surface(), rough, seeds, box_options(scene.mesh));
     ASSERT_TRUE(with.has_value() && without.has_value());
     EXPECT_EQ(with->source_vertices, without->source_vertices);
     EXPECT_EQ(with->transform.matrix(), without->transform.matrix());
+}
+
+TEST_F(RoughBoxes, WhatAcceptanceRejectsIsReturnedAndStopsACandidateConvergingOntoIt) {
+    const std::vector<Seed> seeds = {{7, 0.0}, {300, 0.1}};
+    const VerificationOptions lenient = box_options(scene.mesh);
+    const auto accepted = verify_candidate(n, surface(), rough, seeds, lenient);
+    ASSERT_TRUE(accepted.has_value());
+    // A median bound no patch meets: the same fit and patch, rejected at step 4.
+    VerificationOptions strict = lenient;
+    strict.max_median_deviation = -1;
+    RejectedRelation rejected;
+    EXPECT_FALSE(verify_candidate(n, surface(), rough, seeds, strict, {}, &rejected).has_value());
+    EXPECT_EQ(rejected.source_vertices, accepted->source_vertices);
+    EXPECT_LT((rejected.transform.matrix() - accepted->transform.matrix()).norm(), 1e-9);
+    // A candidate from the same start whose estimate reaches that relation inside that
+    // patch stops there, before acceptance: even the lenient bound returns nothing.
+    std::vector<char> inside(size_t(n.vertex_count()), 0);
+    for (int v : rejected.source_vertices) inside[size_t(v)] = 1;
+    int asked = 0;
+    const KnownRelation rejected_before = [&](const Transformation& t, const std::vector<int>& patch) {
+        ++asked;
+        size_t in = 0;
+        for (int v : patch) in += size_t(inside[size_t(v)]);
+        return (t.matrix() - rejected.transform.matrix()).norm() < 1e-3 && in >= 0.8 * double(patch.size());
+    };
+    EXPECT_FALSE(verify_candidate(n, surface(), rough, seeds, lenient, rejected_before).has_value());
+    EXPECT_GT(asked, 0);
 }
 
 TEST(Icp, AWeightOfTwoIsAPointCountedTwice) {
