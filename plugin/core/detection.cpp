@@ -1621,8 +1621,8 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
     if (!model.measured_on.points.empty())
         input_surface = std::make_unique<SurfaceQuery>(model.measured_on.points, model.measured_on.normals,
                                                        model.measured_on.disc_radius);
-    else if (model.measured_apart())
-        input_surface = std::make_unique<SurfaceQuery>(model.input);
+    else if (model.measured_apart())  // every input vertex of every patch, both ways: a finer grid pays
+        input_surface = std::make_unique<SurfaceQuery>(model.input, options.verification.grid_cells_per_face);
     std::vector<VerifiedSymmetry> reported;
     std::vector<int> supports;
     std::vector<const ContinuousFamily*> family_of;
