@@ -12,8 +12,12 @@ tessellated apart, so no point of one copy is the image of a point of another.
 
 Per scene it prints the points, then for the mesh and for the cloud: reports, the required
 planted relations found (metrics.recall, against the scenes' ground truth, within
-metrics.RECALL_TOL of the diagonal) and seconds.  Scenes with no required relation (the
-analytic continuous shapes, whose ground truth is a family) are listed with '-'.
+metrics.RECALL_TOL of the diagonal), the reports that are true (metrics.accuracy, the
+accuracy benchmark's scorer: a planted relation, a composition of them, or a map the
+brute-force oracle confirms on the clean surface; a cloud's patch points are the scene's
+vertices moved by the noise, and are scored as the vertices nearest them) and seconds.
+Scenes with no required relation (the analytic continuous shapes, whose ground truth is a
+family) are listed with '-' under found.
 
 With --dense, each scene is instead drawn as clouds of that many points at random on its
 surface (a scan's density, above max_working_vertices): per size it prints the points the
@@ -43,16 +47,20 @@ ALL = scenes.SCENE_NAMES + scenes.CAD_SCENE_NAMES + scenes.HARD_SCENE_NAMES
 
 
 def run(ms, scene):
-    """(reports, found, planted, seconds) of one run, or the filter's refusal as a string."""
+    """One run's reports, required relations found and planted, true reports, false reports
+    and seconds, or the filter's refusal as a string.  The patch layers are made because the
+    scorer reads each report's patch from them."""
     t = time.perf_counter()
     try:
-        raw = ms.compute_partial_symmetries(create_patch_layers=False, **scene.filter_params)
+        raw = ms.compute_partial_symmetries(create_patch_layers=True, **scene.filter_params)
     except pymeshlab.PyMeshLabException as e:
         return str(e).splitlines()[-1][:60]
     seconds = time.perf_counter() - t
     result = metrics.collect(ms, raw, 0, seconds)
     r = metrics.recall(scene, result.transforms)
-    return len(result.transforms), r["found"], r["planted"], seconds
+    scored = metrics.accuracy(scene, result)
+    return dict(reports=len(result.transforms), found=r["found"], planted=r["planted"],
+                true=scored["correct"], false=scored["counts"]["false"], seconds=seconds)
 
 
 def cloud(scene, noise, seed=0):
@@ -84,10 +92,9 @@ def dense(scene_names, sizes):
 
 def cell(r):
     if isinstance(r, str):
-        return f"{'refused: ' + r:<28}"
-    reports, found, planted, seconds = r
-    recall = f"{found}/{planted}" if planted else "-"
-    return f"{reports:>4} {recall:>7} {seconds:>7.1f}s       "
+        return f"{'refused: ' + r:<34}"
+    recall = f"{r['found']}/{r['planted']}" if r["planted"] else "-"
+    return f"{r['reports']:>4} {recall:>6} {r['true']:>5} {r['false']:>5} {r['seconds']:>6.1f}s  "
 
 
 def main():
@@ -102,21 +109,23 @@ def main():
         dense(names, [int(n) for n in args.dense.split(",")])
         return
     print(f"noise on the cloud: {100 * args.noise:.2g} % of the diagonal on every coordinate; no normals")
-    print(f"{'scene':<16} {'points':>7}   {'mesh: rep  found    time':<28} {'cloud: rep  found    time':<28}")
+    print(f"{'scene':<16} {'points':>7}   {'mesh: rep  found  true false    time':<34} "
+          f"{'cloud: rep found  true false    time':<34}")
     rows = []
-    totals = {"mesh": [0, 0], "cloud": [0, 0]}
+    totals = {kind: dict(found=0, planted=0, reports=0, true=0, false=0) for kind in ("mesh", "cloud")}
     for name in args.scenes.split(","):
         scene = scenes.make_scene(name, 0)
         mesh = run(scene.meshset(), scene)
         points = run(cloud(scene, args.noise), scene)
         for kind, r in (("mesh", mesh), ("cloud", points)):
             if not isinstance(r, str):
-                totals[kind][0] += r[1]
-                totals[kind][1] += r[2]
+                for key in totals[kind]:
+                    totals[kind][key] += r[key]
         print(f"{name:<16} {len(scene.vertices):>7}   {cell(mesh)} {cell(points)}", flush=True)
         rows.append(dict(scene=name, points=len(scene.vertices), mesh=mesh, cloud=points))
-    for kind, (found, planted) in totals.items():
-        print(f"{kind}: {found} of {planted} required relations found")
+    for kind, t in totals.items():
+        print(f"{kind}: {t['found']} of {t['planted']} required relations found; "
+              f"{t['true']} of {t['reports']} reports true, {t['false']} false")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(dict(noise=args.noise, rows=rows, totals=totals), f, indent=1)
