@@ -170,10 +170,26 @@ bool off_sphere_by_noise_alone(const MeshNeighbourhoods& mesh, const std::vector
 
 }  // namespace
 
+namespace {
+// The patch as slippage measures it: on a point cloud, without the points whose normal is
+// fitted across a sharp edge (ContinuousFamilyOptions::cloud_edge_variation_floor).
+std::vector<int> with_surface_normals(const MeshNeighbourhoods& mesh, const std::vector<int>& patch,
+                                      const ContinuousFamilyOptions& options) {
+    if (mesh.surface_variation.empty()) return patch;
+    const double edge = std::max(options.cloud_edge_variation_floor,
+                                 options.cloud_edge_variation_per_median * mesh.median_surface_variation);
+    std::vector<int> kept;
+    kept.reserve(patch.size());
+    for (int v : patch)
+        if (mesh.surface_variation[size_t(v)] <= edge) kept.push_back(v);
+    return kept;
+}
+}  // namespace
+
 ContinuousFamily slippable_family(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, double tolerance,
                                   const ContinuousFamilyOptions& options) {
     ContinuousFamily family;
-    const PatchFaces faces = patch_faces(mesh, patch);
+    const PatchFaces faces = patch_faces(mesh, with_surface_normals(mesh, patch, options));
     if (faces.areas.size() < 6) return family;
     double total = 0;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();

@@ -3,6 +3,8 @@
 #include "point_cloud.h"
 #include "statistics.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -97,6 +99,29 @@ MeshNeighbourhoods mesh_neighbourhoods(const Mesh& mesh) {
     return n;
 }
 
+namespace {
+// The surface variation of every point over itself and its neighbours in the graph (see
+// MeshNeighbourhoods::surface_variation).
+std::vector<double> surface_variations(const MeshNeighbourhoods& n) {
+    std::vector<double> out(n.positions.size(), 0.0);
+    for (int i = 0; i < n.vertex_count(); ++i) {
+        const int first = n.neighbour_offsets[size_t(i)], last = n.neighbour_offsets[size_t(i) + 1];
+        Eigen::Vector3d mean = n.positions[size_t(i)];
+        for (int k = first; k < last; ++k) mean += n.positions[size_t(n.neighbours[size_t(k)])];
+        mean /= double(last - first + 1);
+        Eigen::Matrix3d covariance = (n.positions[size_t(i)] - mean) * (n.positions[size_t(i)] - mean).transpose();
+        for (int k = first; k < last; ++k) {
+            const Eigen::Vector3d d = n.positions[size_t(n.neighbours[size_t(k)])] - mean;
+            covariance += d * d.transpose();
+        }
+        const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+        const double sum = lambda.sum();
+        out[size_t(i)] = sum > 0 ? std::max(0.0, lambda[0]) / sum : 0.0;
+    }
+    return out;
+}
+}  // namespace
+
 MeshNeighbourhoods cloud_neighbourhoods(const std::vector<Eigen::Vector3d>& points,
                                         const std::vector<Eigen::Vector3d>& normals,
                                         const std::vector<double>& areas, int neighbours) {
@@ -118,6 +143,8 @@ MeshNeighbourhoods cloud_neighbourhoods(const std::vector<Eigen::Vector3d>& poin
     n.vertex_areas = areas;
     label_components(n);
     n.component_open.assign(n.component_areas.size(), 0);
+    n.surface_variation = surface_variations(n);
+    n.median_surface_variation = median(n.surface_variation);
     return n;
 }
 

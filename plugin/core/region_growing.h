@@ -35,6 +35,13 @@ struct MeshNeighbourhoods {
     /// Whether a component has border edges: an open surface, whose faces may face either
     /// way (a wing modelled as a single sheet), so normals are compared without their sign.
     std::vector<char> component_open;
+    /// A point cloud's, empty for a mesh: per point, the surface variation λ0 / (λ0 + λ1 +
+    /// λ2) of the points around it (itself and its neighbours), and its median over the
+    /// cloud.  It is 0 on a plane and grows with curvature and noise, and most where the
+    /// neighbours straddle a sharp edge: there a point's normal is a plane fitted across the
+    /// edge, tilted between the faces, and no normal of the surface.
+    std::vector<double> surface_variation;
+    double median_surface_variation = 0;
 
     int vertex_count() const { return int(positions.size()); }
 };

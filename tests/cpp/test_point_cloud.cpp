@@ -3,6 +3,7 @@
 // a sphere, a cylinder, a saddle and a plane, with and without noise.  Then the cloud as
 // verification walks it (its discs, its neighbour graph): distances against a sphere's,
 // and growth under a planted mirror against growth under a motion that is no symmetry.
+#include "core/continuous_families.h"
 #include "core/mesh.h"
 #include "core/point_cloud.h"
 #include "core/region_growing.h"
@@ -12,6 +13,7 @@
 
 #include <cmath>
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -246,6 +248,54 @@ TEST(PointCloud, TheDiscsOfASphereAreAtTheSpheresDistance) {
 // near the poles, where x and y are small, it nearly is: growth covers part of the cloud,
 // and only points whose image lies near the true surface (measured along the radius,
 // which is longer than the distance where the surface slopes).
+// Points at random on a box's surface, [0, 1] x [0, 0.8] x [0, 0.6], each face getting its
+// share of `n` by area, as a scan samples it.
+std::vector<Eigen::Vector3d> box_cloud(int n, std::mt19937_64& rng) {
+    const Eigen::Vector3d size(1, 0.8, 0.6);
+    const double total = 2 * (size.x() * size.y() + size.y() * size.z() + size.z() * size.x());
+    std::uniform_real_distribution<double> unit(0, 1);
+    std::vector<Eigen::Vector3d> points;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const int count = int(std::round(n * size[u] * size[v] / total));
+        for (double side : {0.0, size[axis]})
+            for (int k = 0; k < count; ++k) {
+                Eigen::Vector3d p;
+                p[axis] = side;
+                p[u] = size[u] * unit(rng);
+                p[v] = size[v] * unit(rng);
+                points.push_back(p);
+            }
+    }
+    return points;
+}
+
+TEST(PointCloud, TheSidesOfABoxSlideAlongItWithoutTheNormalsFittedAcrossItsEdges) {
+    std::mt19937_64 rng(3);
+    const std::vector<Eigen::Vector3d> points = box_cloud(6000, rng);
+    const std::vector<Eigen::Vector3d> normals = estimate_point_normals(points);
+    const PointAreas areas = point_areas(points);
+    const MeshNeighbourhoods graph = cloud_neighbourhoods(points, normals, areas.area, 8);
+    // The four sides, with their rims: the points at the caps' edges have a normal fitted
+    // across the edge, tilted towards the length of the box.
+    std::vector<int> sides;
+    int tilted = 0;
+    for (int i = 0; i < int(points.size()); ++i) {
+        if (points[size_t(i)].x() <= 0 || points[size_t(i)].x() >= 1) continue;
+        sides.push_back(i);
+        tilted += std::abs(normals[size_t(i)].x()) > 0.2;
+    }
+    ASSERT_GT(tilted, 0);
+    const double tolerance = 0.01 * std::sqrt(1 + 0.64 + 0.36);
+    ContinuousFamilyOptions options;
+    const ContinuousFamily family = slippable_family(graph, sides, tolerance, options);
+    ASSERT_EQ(family.kind, ContinuousKind::Translational);
+    EXPECT_GT(std::abs(family.direction.x()), 0.999);
+    // With every point's normal counted, the tilted ones forbid the slide.
+    options.cloud_edge_variation_floor = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(slippable_family(graph, sides, tolerance, options).kind, ContinuousKind::Discrete);
+}
+
 TEST(PointCloud, GrowthOverTheNeighbourGraphCoversTheMirrorOnly) {
     const std::vector<Eigen::Vector3d> points = bumpy_cloud(8000);
     const std::vector<Eigen::Vector3d> normals = estimate_point_normals(points);
