@@ -168,9 +168,6 @@ bool off_sphere_by_noise_alone(const MeshNeighbourhoods& mesh, const std::vector
     return systematic_deviation(mesh, patch, distance, options.systematic_smoothing_iterations) <= bound * rms;
 }
 
-}  // namespace
-
-namespace {
 // The patch as slippage measures it: on a point cloud, without the points whose normal is
 // fitted across a sharp edge (ContinuousFamilyOptions::cloud_edge_variation_floor).
 std::vector<int> with_surface_normals(const MeshNeighbourhoods& mesh, const std::vector<int>& patch,
