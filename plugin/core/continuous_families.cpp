@@ -365,6 +365,21 @@ std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& f
     return Transformation::from_linear(linear, 2 * n * n.dot(on_plane));
 }
 
+std::optional<Transformation> mirror_through_middle(const ContinuousFamily& f, const Transformation& T,
+                                                    double tolerance, double degrees) {
+    if (f.kind != ContinuousKind::Rotational || !T.reflection) return std::nullopt;
+    const Eigen::Vector3d& n = f.direction;
+    if ((T.linear() * n / T.scale).dot(n) > -cosine_of(degrees)) return std::nullopt;  // the axis not flipped
+    if (rotoreflection_cosine(T) < cosine_of(degrees)) return std::nullopt;  // not a mirror
+    const Eigen::Vector3d a = f.point, b = f.point + f.extent * n;
+    if (distance_to_line(f.point, n, T.apply(a)) > tolerance || distance_to_line(f.point, n, T.apply(b)) > tolerance)
+        return std::nullopt;  // the axis not mapped onto itself
+    // T moves the family's ends along the axis by twice its plane's distance to the middle.
+    if (2 * std::abs((0.5 * (a + T.apply(a)) - f.point).dot(n)) <= tolerance) return std::nullopt;
+    const Eigen::Matrix3d linear = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
+    return Transformation::from_linear(linear, 2 * n * n.dot(f.point));
+}
+
 namespace {
 
 ContinuousFamily plane_of_sample(const SurfaceSignature& sample, double radius) {

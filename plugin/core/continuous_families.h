@@ -223,6 +223,16 @@ bool is_member(const ContinuousFamily& family, const Transformation& T, double t
 std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& family, const Transformation& T,
                                                        double degrees);
 
+/// A patch that slides along a rotational family's axis (a cylinder's side) is mapped onto
+/// itself by every mirror normal to the axis, and ICP on it settles anywhere along the
+/// axis; of the family's whole patch (its caps too) only the mirror through the middle
+/// (family.point, as recorded) can map all.  This returns that mirror when T is another
+/// mirror normal to the axis that moves the family's ends by more than the tolerance
+/// (its plane off the middle by more than half of it); nothing otherwise
+/// (`degrees` as for is_member).
+std::optional<Transformation> mirror_through_middle(const ContinuousFamily& family, const Transformation& T,
+                                                    double tolerance, double degrees);
+
 /// The families a sample that umbilic pruning (§2.1) discarded suggests, to be tried in
 /// this order: for a flat sample (largest |κ| r below `flatness`) the plane through it,
 /// then, if both its curvatures bend the same way, the sphere of its mean curvature (a

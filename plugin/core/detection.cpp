@@ -1018,11 +1018,23 @@ private:
     void classify(VerifiedSymmetry s, const Assessment& a, int support) {
         if (!a.agrees) return;
         if (a.family.kind != ContinuousKind::Discrete) {
-            record_family(a.family, support);
+            const size_t k = record_family(a.family, support);
             if (a.member) {
                 verify_mirror_in(s, a.family, support);
                 return;
             }
+            // A pair that slides along the axis is centred on the mirror that found it,
+            // wherever that is; the family as recorded may be known over more of the
+            // surface (a capped cylinder's side, with its caps), whose middle the mirror
+            // misses.  The mirror through the middle, where it maps more, is the relation.
+            if (a.family.slides_along_axis)
+                if (std::optional<Transformation> mirror = mirror_through_middle(
+                        findings_.families[k], s.transform, vo_.tolerance, co_.axis_agreement_degrees))
+                    if (std::optional<VerifiedSymmetry> middle = verify_held_mirror(s, *mirror);
+                        middle && middle->source_area > s.source_area) {
+                        classify_held_mirror(std::move(*middle), support);
+                        return;
+                    }
         }
         if (s.small_motion) return;  // a slide along the surface, not a discrete symmetry
         for (auto& f : findings_.discrete)
@@ -1042,8 +1054,15 @@ private:
     void verify_mirror_in(const VerifiedSymmetry& member, const ContinuousFamily& family, int support) {
         const std::optional<Transformation> mirror =
             mirror_in_rotoreflection(family, member.transform, co_.axis_agreement_degrees);
-        if (!mirror || tried(*mirror)) return;
-        tried_.push_back(*mirror);
+        if (!mirror) return;
+        if (std::optional<VerifiedSymmetry> verified = verify_held_mirror(member, *mirror))
+            classify_held_mirror(std::move(*verified), support);
+    }
+
+    // The mirror verified from the member's patch with T held, once.
+    std::optional<VerifiedSymmetry> verify_held_mirror(const VerifiedSymmetry& member, const Transformation& mirror) {
+        if (tried(mirror)) return std::nullopt;
+        tried_.push_back(mirror);
         std::vector<Seed> seeds;
         const std::vector<int>& patch = member.source_vertices;
         const size_t stride = std::max<size_t>(1, patch.size() / size_t(std::max(1, co_.mirror_seeds)));
@@ -1051,10 +1070,12 @@ private:
         VerificationOptions held = vo_;
         held.refine_with_icp = false;
         const KnownRelation known = [this](const Transformation& t, const std::vector<int>&) { return is_known(t); };
-        std::optional<VerifiedSymmetry> verified = verify_candidate(mesh_, surface_, *mirror, std::move(seeds), held, known);
-        if (!verified) return;
-        const Assessment assessment = assess(*verified, workers_[size_t(omp_get_thread_num())]);
-        classify(std::move(*verified), assessment, support);
+        return verify_candidate(mesh_, surface_, mirror, std::move(seeds), held, known);
+    }
+
+    void classify_held_mirror(VerifiedSymmetry verified, int support) {
+        const Assessment assessment = assess(verified, workers_[size_t(omp_get_thread_num())]);
+        classify(std::move(verified), assessment, support);
     }
 
     // An axis's point moved to the middle of the patch's span along the axis, where the
@@ -1096,7 +1117,8 @@ private:
     }
 
     // A family found twice (two members of one surface of revolution) is one family.
-    void record_family(ContinuousFamily family, int support) {
+    // Returns the index of the family recorded (or joined).
+    size_t record_family(ContinuousFamily family, int support) {
         for (size_t k = 0; k < findings_.families.size(); ++k) {
             ContinuousFamily& known = findings_.families[k];
             std::optional<ContinuousFamily> joint = one_family(known, family);
@@ -1105,12 +1127,13 @@ private:
             known = std::move(*joint);
             family_flags_[k] = flags(mesh_.vertex_count(), known.vertices);
             findings_.family_support[k] += support;
-            return;
+            return k;
         }
         centre_on_patch(family);
         family_flags_.push_back(flags(mesh_.vertex_count(), family.vertices));
         findings_.families.push_back(std::move(family));
         findings_.family_support.push_back(support);
+        return findings_.families.size() - 1;
     }
 
     // The family `known` over both patches, as fitted before: the fit of the union where

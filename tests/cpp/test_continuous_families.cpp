@@ -353,3 +353,32 @@ TEST(ContinuousFamilies, ARotoreflectionMemberGivesTheMirrorNormalToTheAxis) {
     helix.kind = ContinuousKind::Helical;
     EXPECT_FALSE(mirror_in_rotoreflection(helix, rotoreflection, degrees).has_value());
 }
+
+TEST(ContinuousFamilies, AMirrorAlongACylindersSideGivesTheMirrorThroughItsMiddle) {
+    // A capped cylinder about z, its patch from z = -0.5 to 0.5 (the family's point in the
+    // middle, as recorded).  Its side alone is mapped onto itself by the mirror across any
+    // plane normal to the axis; only the one across z = 0 maps the caps too.
+    ContinuousFamily cylinder = revolution_about_z();
+    cylinder.slides_along_axis = true;
+    const double tol = 0.01, degrees = 1;
+    auto mirror_across = [](double z) {
+        return Transformation::from_linear(Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d(0, 0, 2 * z));
+    };
+    const std::optional<Transformation> found = mirror_through_middle(cylinder, mirror_across(0.02), tol, degrees);
+    ASSERT_TRUE(found.has_value());
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.3, 0, 0.5), Eigen::Vector3d(-0.1, 0.2, -0.5)})
+        EXPECT_LT((found->apply(p) - mirror_across(0).apply(p)).norm(), 1e-12);
+    // Nothing for a mirror that moves the caps by less than the tolerance (a plane 0.004
+    // off the middle moves them by 0.008), a mirror through the axis, a rotoreflection
+    // (mirror_in_rotoreflection's), a turn, or a mirror across a parallel axis's plane.
+    EXPECT_FALSE(mirror_through_middle(cylinder, mirror_across(0.004), tol, degrees).has_value());
+    const Transformation through_axis = Transformation::from_linear(Eigen::Vector3d(-1, 1, 1).asDiagonal(), Eigen::Vector3d::Zero());
+    EXPECT_FALSE(mirror_through_middle(cylinder, through_axis, tol, degrees).has_value());
+    Transformation turn;
+    turn.rotation = Eigen::AngleAxisd(50 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    EXPECT_FALSE(mirror_through_middle(cylinder, turn * mirror_across(0.02), tol, degrees).has_value());
+    EXPECT_FALSE(mirror_through_middle(cylinder, turn, tol, degrees).has_value());
+    Transformation elsewhere = mirror_across(0.02);  // normal to the axis, but the axis moved off itself
+    elsewhere.translation += Eigen::Vector3d(0.1, 0, 0);
+    EXPECT_FALSE(mirror_through_middle(cylinder, elsewhere, tol, degrees).has_value());
+}
