@@ -38,7 +38,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
+import meshlab_symmetry  # noqa: E402
 import metrics  # noqa: E402
+import pymeshlab  # noqa: E402
 import scenes  # noqa: E402
 
 QUICK = ("mirrored", "thin_plate", "cylinder", "hammer", "noisy_both_0.2")
@@ -46,9 +48,16 @@ ALL = scenes.SCENE_NAMES + scenes.CAD_SCENE_NAMES + scenes.HARD_SCENE_NAMES
 BAR_RECALL = 0.95
 BAR_PRECISION = 0.95
 BAR_SECONDS = 30.0
-#: the filter's default max_working_vertices, above which it analyses a simplified copy
-FILTER_WORKING_VERTICES = 50000
 STAGES = ("signatures", "pairing", "clustering", "verification")
+
+
+def filter_working_vertices() -> int:
+    """The filter's default max_working_vertices, above which it analyses a simplified
+    copy, as the filter declares it (pymeshlab lists a filter's defaults only with a mesh
+    loaded)."""
+    ms = pymeshlab.MeshSet()
+    ms.create_sphere()
+    return int(ms.filter_parameter_values(meshlab_symmetry.FILTER_NAME)["max_working_vertices"])
 HEADER = (f"{'scene':<16} {'tris':>6} {'rep':>4} {'recall':>7} {'prec':>7} {'red':>4} "
           f"{'fp':>3} {'IoU':>5} {'T err':>6} " + " ".join(f"{s[:6]:>6}" for s in STAGES)
           + f" {'total':>6}")
@@ -94,7 +103,7 @@ def run_scene(name, seed, working_fraction=None, above_working_resolution=False)
     t = time.perf_counter()
     s = scenes.make_scene(name, seed)
     if above_working_resolution:
-        s = s.subdivided(FILTER_WORKING_VERTICES)
+        s = s.subdivided(filter_working_vertices())
     gen = time.perf_counter() - t
     params = dict(s.filter_params, create_patch_layers=True)
     if working_fraction:
@@ -112,7 +121,7 @@ def main(argv=None):
     ap.add_argument("--working-fraction", type=float,
                     help="analyse each scene on a simplified copy of this fraction of its vertices")
     ap.add_argument("--above-working-resolution", action="store_true",
-                    help=f"subdivide each scene above {FILTER_WORKING_VERTICES} vertices first")
+                    help="subdivide each scene above the filter's max_working_vertices first")
     args = ap.parse_args(argv)
     if args.working_fraction is not None and not 0 < args.working_fraction < 1:
         ap.error("--working-fraction must lie between 0 and 1")
