@@ -200,6 +200,22 @@ PointCloudSurface::PointCloudSurface(std::vector<Eigen::Vector3d> points, std::v
         throw InputError("A point cloud needs one normal per point.");
 }
 
+std::vector<int> PointCloudSurface::fit_ball(const Eigen::Vector3d& p, double& radius,
+                                             const LocalFitOptions& options) const {
+    const int fewest = std::max(6, options.min_points);
+    std::vector<int> ball = tree_.radius_search(p.data(), radius);
+    if (int(ball.size()) >= fewest) return ball;
+    if (options.widened_ball_weight <= 0 || options.widened_ball_weight >= 1 || size() < fewest) return {};
+    const std::vector<int> nearest = tree_.nearest_k(p.data(), fewest);
+    const double farthest = (points_[size_t(nearest.back())] - p).norm();
+    // (1 - d^2/r^2)^2 = w at d = farthest.
+    const double widened = farthest / std::sqrt(1 - std::sqrt(options.widened_ball_weight));
+    if (widened > options.max_widening * radius) return {};
+    radius = std::max(radius, widened);
+    ball = tree_.radius_search(p.data(), radius);
+    return int(ball.size()) >= fewest ? ball : std::vector<int>{};
+}
+
 std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> PointCloudSurface::projected_on_local_fits(
     double radius, const LocalFitOptions& options) const {
     std::vector<Eigen::Vector3d> moved(points_), turned(normals_);
@@ -208,9 +224,10 @@ std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> PointCloud
     for (long i = 0; i < long(points_.size()); ++i) {
         const Eigen::Vector3d& p = points_[size_t(i)];
         const Eigen::Vector3d& n = normals_[size_t(i)];
-        const std::vector<int> ball = tree_.radius_search(p.data(), radius);
-        if (int(ball.size()) < std::max(6, options.min_points)) continue;
-        const HeightFit fit = fit_height(points_, ball, p, n, radius);
+        double reach = radius;
+        const std::vector<int> ball = fit_ball(p, reach, options);
+        if (ball.empty()) continue;
+        const HeightFit fit = fit_height(points_, ball, p, n, reach);
         const auto& c = fit.coefficients;
         const Eigen::Vector3d normal = (n - c(3) * fit.t1 - c(4) * fit.t2).normalized();
         if (!c.allFinite() || !normal.allFinite() || normal.dot(n) < 0.5) continue;
@@ -230,15 +247,15 @@ SurfaceSignature PointCloudSurface::fit_at(const Eigen::Vector3d& p, const Eigen
                                            double radius, const LocalFitOptions& options) const {
     SurfaceSignature out;
     out.position = p;
-    out.area = M_PI * radius * radius;
     Eigen::Vector3d normal = start_normal;
     Eigen::Vector3d t1, t2;
     tangent_basis(normal, t1, t2);
     out.normal = normal;
     out.direction1 = t1;
     out.direction2 = t2;
-    const std::vector<int> ball = tree_.radius_search(p.data(), radius);
-    if (int(ball.size()) < std::max(6, options.min_points)) return out;
+    const std::vector<int> ball = fit_ball(p, radius, options);
+    out.area = M_PI * radius * radius;
+    if (ball.empty()) return out;
     // The first fit's gradient tilts the estimated normal; the second fit, on the tilted
     // normal, has a gradient near zero, where the Hessian is the second fundamental form.
     HeightFit fit = fit_height(points_, ball, p, normal, radius);

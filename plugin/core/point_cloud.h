@@ -45,6 +45,18 @@ struct LocalFitOptions {
     /// Fewest points in the ball worth a fit of the quadric's six coefficients: with fewer,
     /// a few points of noise decide the curvature (6 at the very least).
     int min_points = 10;
+    /// A ball holding fewer points (the cloud sparser than the ball is small: on a torus of
+    /// 7,000 points beside a planted pair, 6,038 of its 6,060 samples' balls of 1 % of the
+    /// scene's diagonal) is
+    /// widened until its min_points-th nearest point weighs this much in the fit (the
+    /// weights fall off as (1 - d^2/r^2)^2; 1/4 at d = r / sqrt(2)).  0 leaves it as it is,
+    /// and the point without curvature.
+    double widened_ball_weight = 0.25;
+    /// ...but never beyond this multiple of its radius: the surface a far wider ball sees is
+    /// not the one the curvature radius asks about (a coarse CAD face's few points, whose
+    /// widened ball takes in the faces beside it, are left without curvature, and so flat,
+    /// as before).  Pairing's second scale is twice the radius.
+    double max_widening = 2;
 };
 
 /// Unit normals of a cloud, pointing outward in each of its connected parts (steps 1-2).
@@ -83,9 +95,10 @@ public:
 
     /// Step 3 at point `index`: kappa1 <= kappa2, positive where the cloud is convex, the
     /// principal directions and the fitted normal as a right-handed frame, and as `area` the
-    /// disc the ball cuts from a plane (pi r^2).  With fewer than options.min_points points
-    /// in the ball the curvatures are 0 and the frame is the point's normal with any
-    /// tangent basis.
+    /// disc the ball cuts from a plane (pi r^2).  A ball with fewer than options.min_points
+    /// points is widened (LocalFitOptions::widened_ball_weight); where it would have to grow
+    /// beyond LocalFitOptions::max_widening, or the whole cloud has fewer, the curvatures are
+    /// 0 and the frame is the point's normal with any tangent basis.
     SurfaceSignature fit_signature(int index, double radius, const LocalFitOptions& options = {}) const;
     /// The same fit at any `position` near the cloud, starting from the unit `normal` (of
     /// a point near it).
@@ -101,6 +114,10 @@ public:
         double radius, const LocalFitOptions& options = {}) const;
 
 private:
+    /// The points a fit at p uses: those within `radius`, widened as the options say
+    /// (`radius` then grows with it); empty when there are too few for a fit.
+    std::vector<int> fit_ball(const Eigen::Vector3d& p, double& radius, const LocalFitOptions& options) const;
+
     std::vector<Eigen::Vector3d> points_;
     std::vector<Eigen::Vector3d> normals_;
     KdTree tree_;

@@ -197,10 +197,52 @@ TEST(PointCloud, APlaneIsFlatAndTooFewPointsGiveNoCurvature) {
     EXPECT_NEAR(flat.kappa1, 0, 1e-9);
     EXPECT_NEAR(flat.kappa2, 0, 1e-9);
     EXPECT_NEAR(flat.normal.z(), 1, 1e-9);
-    const SurfaceSignature alone = cloud.fit_signature(centre, 0.01);  // only the point itself
+    // A ball holding only the point itself would have to be widened far beyond twice its
+    // radius to hold 10 points (the grid is 0.05 apart): no curvature, as before.
+    const SurfaceSignature alone = cloud.fit_signature(centre, 0.01);
     EXPECT_EQ(alone.kappa1, 0);
     EXPECT_EQ(alone.kappa2, 0);
     expect_right_handed(alone);
+    // One of 0.08 holds 9 and is widened (to 0.14, under twice 0.08): still flat.
+    const SurfaceSignature widened = cloud.fit_signature(centre, 0.08);
+    EXPECT_NEAR(widened.kappa1, 0, 1e-9);
+    EXPECT_NEAR(widened.kappa2, 0, 1e-9);
+    EXPECT_GT(widened.area, M_PI * 0.08 * 0.08);
+    // Unless told not to widen it, or the cloud has fewer points than a fit needs.
+    LocalFitOptions as_it_is;
+    as_it_is.widened_ball_weight = 0;
+    EXPECT_EQ(cloud.fit_signature(centre, 0.08, as_it_is).area, M_PI * 0.08 * 0.08);
+    const std::vector<Eigen::Vector3d> few(points.begin(), points.begin() + 8);
+    const PointCloudSurface sparse(few, std::vector<Eigen::Vector3d>(few.size(), Eigen::Vector3d::UnitZ()));
+    const SurfaceSignature none = sparse.fit_signature(0, 10.0);
+    EXPECT_EQ(none.kappa1, 0);
+    EXPECT_EQ(none.kappa2, 0);
+}
+
+// A cloud sparser than the ball (a sphere of radius 2 in 2,000 points, about 0.17 apart,
+// under a ball of 0.25 that holds fewer than 10 of them): the ball is widened to its 10
+// nearest, and the curvature is still 1/2 (the paper's ball is a mesh's; a fit needs
+// points).
+TEST(PointCloud, ABallSparserThanAFitNeedsIsWidenedToItsNearestPoints) {
+    const std::vector<Eigen::Vector3d> points = sphere_cloud(2.0, 2000);
+    const PointCloudSurface cloud(points, estimate_point_normals(points));
+    LocalFitOptions as_it_is;
+    as_it_is.widened_ball_weight = 0;
+    const double radius = 0.25;
+    int sparse = 0;
+    for (int i = 0; i < cloud.size(); i += 7) {
+        int inside = 0;
+        for (const Eigen::Vector3d& q : points) inside += (q - points[size_t(i)]).norm() <= radius;
+        if (inside >= 10) continue;
+        ++sparse;
+        EXPECT_EQ(cloud.fit_signature(i, radius, as_it_is).kappa2, 0);
+        const SurfaceSignature s = cloud.fit_signature(i, radius);
+        expect_right_handed(s);
+        EXPECT_NEAR(s.kappa1, 0.5, 0.03);
+        EXPECT_NEAR(s.kappa2, 0.5, 0.03);
+        EXPECT_GT(s.area, M_PI * radius * radius);
+    }
+    EXPECT_GT(sparse, 100);
 }
 
 // The bumpy sphere's radius in direction u.

@@ -62,12 +62,14 @@ def test_a_planted_scene_as_a_cloud_gives_the_planted_relations(requires_pipelin
     assert np.count_nonzero(quality) > 0.3 * len(quality)
 
 
-@pytest.mark.parametrize("name", ["cylinder"])
+@pytest.mark.parametrize("name", ["cylinder", "torus_pair"])
 def test_a_clean_cloud_of_a_capped_cylinder_or_a_torus_gives_its_family_and_mirror_and_nothing_false(requires_pipeline, name):
     # The cylinder's side alone is mapped onto itself by a mirror across any plane normal to
     # its axis; its cloud reported one 1 % of the diagonal off the middle, over the side
-    # only, in place of the mid-plane mirror.  Scored as the accuracy benchmark scores a
-    # mesh (planted relations, families and maps the oracle confirms).
+    # only, in place of the mid-plane mirror.  The torus beside a planted pair is sparser
+    # than the curvature ball holds enough points for: its samples had no curvature, and
+    # neither its rotations nor its mirror were found.  Scored as the accuracy benchmark
+    # scores a mesh (planted relations, families and maps the oracle confirms).
     scene = scenes.make_scene(name, 0)
     ms = cloud_of(scene)
     raw = ms.compute_partial_symmetries(create_patch_layers=True, **scene.filter_params)
