@@ -8,7 +8,10 @@ For every scene of tests/scenes.py (core, CAD and hard scenes), runs compute_par
 with its defaults (plus the scene's filter_params) on the mesh, and on its vertices alone as a
 point cloud: no faces, no normals (the filter estimates them), with Gaussian noise of F (a
 fraction of the diagonal, default 0.001) on every coordinate.  Every copy of a scene is
-tessellated apart, so no point of one copy is the image of a point of another.
+tessellated apart, so no point of one copy is the image of a point of another.  With
+--sampled the cloud is as many points drawn at random on the surface instead (area-weighted,
+as a scan samples a surface evenly: a CAD part's vertices crowd at its small features and
+leave its flat faces bare); --no-mesh leaves the mesh runs out.
 
 Per scene it prints the points, then for the mesh and for the cloud: reports, the required
 planted relations found (metrics.recall, against the scenes' ground truth, within
@@ -63,8 +66,12 @@ def run(ms, scene):
                 true=scored["correct"], false=scored["counts"]["false"], seconds=seconds)
 
 
-def cloud(scene, noise, seed=0):
-    V = scene.vertices + np.random.default_rng(seed).normal(0.0, noise * scene.diagonal, scene.vertices.shape)
+def cloud(scene, noise, seed=0, sampled=False):
+    """The scene's vertices, or as many points at random on its surface (sampled), with
+    Gaussian noise of `noise` (a fraction of the diagonal) on every coordinate."""
+    V = scenes.sample_surface(scene.vertices, scene.faces, len(scene.vertices), np.random.default_rng(1)) \
+        if sampled else scene.vertices
+    V = V + np.random.default_rng(seed).normal(0.0, noise * scene.diagonal, V.shape)
     ms = pymeshlab.MeshSet()
     ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V), "cloud")
     return ms
@@ -91,6 +98,8 @@ def dense(scene_names, sizes):
 
 
 def cell(r):
+    if r is None:
+        return f"{'not run':<34}"
     if isinstance(r, str):
         return f"{'refused: ' + r:<34}"
     recall = f"{r['found']}/{r['planted']}" if r["planted"] else "-"
@@ -103,22 +112,27 @@ def main():
     parser.add_argument("--scenes", default=",".join(ALL))
     parser.add_argument("--json")
     parser.add_argument("--dense", help="comma-separated point counts (default scene: mirrored)")
+    parser.add_argument("--sampled", action="store_true",
+                        help="the cloud is as many points at random on the surface as the mesh has vertices "
+                             "(a scan's even density), not the vertices")
+    parser.add_argument("--no-mesh", action="store_true", help="run the clouds only")
     args = parser.parse_args()
     if args.dense:
         names = args.scenes.split(",") if args.scenes != ",".join(ALL) else ["mirrored"]
         dense(names, [int(n) for n in args.dense.split(",")])
         return
-    print(f"noise on the cloud: {100 * args.noise:.2g} % of the diagonal on every coordinate; no normals")
+    print(f"noise on the cloud: {100 * args.noise:.2g} % of the diagonal on every coordinate; no normals; "
+          f"{'points at random on the surface' if args.sampled else 'the vertices'}")
     print(f"{'scene':<16} {'points':>7}   {'mesh: rep  found  true false    time':<34} "
           f"{'cloud: rep found  true false    time':<34}")
     rows = []
     totals = {kind: dict(found=0, planted=0, reports=0, true=0, false=0) for kind in ("mesh", "cloud")}
     for name in args.scenes.split(","):
         scene = scenes.make_scene(name, 0)
-        mesh = run(scene.meshset(), scene)
-        points = run(cloud(scene, args.noise), scene)
+        mesh = None if args.no_mesh else run(scene.meshset(), scene)
+        points = run(cloud(scene, args.noise, sampled=args.sampled), scene)
         for kind, r in (("mesh", mesh), ("cloud", points)):
-            if not isinstance(r, str):
+            if isinstance(r, dict):
                 for key in totals[kind]:
                     totals[kind][key] += r[key]
         print(f"{name:<16} {len(scene.vertices):>7}   {cell(mesh)} {cell(points)}", flush=True)
@@ -128,7 +142,7 @@ def main():
               f"{t['true']} of {t['reports']} reports true, {t['false']} false")
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(dict(noise=args.noise, rows=rows, totals=totals), f, indent=1)
+            json.dump(dict(noise=args.noise, sampled=args.sampled, rows=rows, totals=totals), f, indent=1)
 
 
 if __name__ == "__main__":
