@@ -353,16 +353,21 @@ bool is_member(const ContinuousFamily& f, const Transformation& T, double tolera
     return false;
 }
 
+namespace {
+// The mirror across the plane through `on_plane` with unit normal n.
+Transformation mirror_normal_to(const Eigen::Vector3d& n, const Eigen::Vector3d& on_plane) {
+    const Eigen::Matrix3d linear = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
+    return Transformation::from_linear(linear, 2 * n * n.dot(on_plane));
+}
+}  // namespace
+
 std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& f, const Transformation& T, double degrees) {
     if (f.kind != ContinuousKind::Rotational || !T.reflection) return std::nullopt;
     if ((T.linear() * f.direction / T.scale).dot(f.direction) > -cosine_of(degrees)) return std::nullopt;
     if (rotoreflection_cosine(T) >= cosine_of(degrees)) return std::nullopt;  // the mirror already
     // A turn about the axis fixes the axis point by point, so T moves an axis point a as
     // the mirror does: the mirror's plane passes half way between a and T(a).
-    const Eigen::Vector3d& n = f.direction;
-    const Eigen::Vector3d on_plane = 0.5 * (f.point + T.apply(f.point));
-    const Eigen::Matrix3d linear = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
-    return Transformation::from_linear(linear, 2 * n * n.dot(on_plane));
+    return mirror_normal_to(f.direction, 0.5 * (f.point + T.apply(f.point)));
 }
 
 std::optional<Transformation> mirror_through_middle(const ContinuousFamily& f, const Transformation& T,
@@ -376,8 +381,7 @@ std::optional<Transformation> mirror_through_middle(const ContinuousFamily& f, c
         return std::nullopt;  // the axis not mapped onto itself
     // T moves the family's ends along the axis by twice its plane's distance to the middle.
     if (2 * std::abs((0.5 * (a + T.apply(a)) - f.point).dot(n)) <= tolerance) return std::nullopt;
-    const Eigen::Matrix3d linear = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
-    return Transformation::from_linear(linear, 2 * n * n.dot(f.point));
+    return mirror_normal_to(n, f.point);
 }
 
 namespace {

@@ -47,10 +47,9 @@ struct LocalFitOptions {
     int min_points = 10;
     /// A ball holding fewer points (the cloud sparser than the ball is small: on a torus of
     /// 7,000 points beside a planted pair, 6,038 of its 6,060 samples' balls of 1 % of the
-    /// scene's diagonal) is
-    /// widened until its min_points-th nearest point weighs this much in the fit (the
-    /// weights fall off as (1 - d^2/r^2)^2; 1/4 at d = r / sqrt(2)).  0 leaves it as it is,
-    /// and the point without curvature.
+    /// scene's diagonal) is widened until its min_points-th nearest point weighs this much in
+    /// the fit (the weights fall off as (1 - d^2/r^2)^2; 1/4 at d = r / sqrt(2)).  0 leaves
+    /// it as it is, and the point without curvature.
     double widened_ball_weight = 0.25;
     /// ...but never beyond this multiple of its radius: the surface a far wider ball sees is
     /// not the one the curvature radius asks about (a coarse CAD face's few points, whose
