@@ -2,6 +2,7 @@
 
 #include "curvature_agreement.h"
 #include "kd_tree.h"
+#include "lookahead.h"
 #include "mean_shift.h"
 #include "pairing.h"
 #include "point_cloud.h"
@@ -23,6 +24,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -530,6 +532,14 @@ double overlap(const std::vector<int>& a, const std::vector<int>& b) {  // |a �
 // slippable is a member of a continuous family: the family is recorded once, and the
 // candidate is reported beside it only if it is not one of its members.
 class Verifier {
+    struct Rejected {
+        Transformation transform;
+        std::vector<char> source;  // flags per vertex
+    };
+    struct KnownRelations {
+        std::vector<Transformation> found;  // of the discrete symmetries found
+        std::vector<std::shared_ptr<const Rejected>> rejected;
+    };
     // The work space of one thread: a speculation (verification and assessment) may run on
     // each at once, each with its own.
     struct Worker {
@@ -615,16 +625,17 @@ public:
         Assessment assessment;  // of the result
     };
 
-    /// Threads that may speculate at once, each with its own Worker.
+    /// Threads that may speculate at once, each with its own Worker (0: the calling thread).
     static size_t threads() { return size_t(std::max(1, omp_get_max_threads())); }
 
     /// Whether consider() would verify the candidate now: it is neither explained nor tried.
     bool would_verify(const Candidate& candidate) { return !explaining(candidate) && !tried(candidate.transform); }
 
-    /// Verification of the candidate against the findings as they stand, and the assessment
-    /// of its result; reads the findings only and writes only to the calling thread's
-    /// Worker, so candidates are speculated on several threads at once (below threads()).
-    Speculation speculate(const Candidate& candidate) {
+    /// Verification of the candidate against the relations known when it starts (a
+    /// snapshot: the calling thread may settle others meanwhile), and the assessment of its
+    /// result.  It writes only to Worker `worker` (below threads()), so candidates are
+    /// speculated on several threads at once.
+    Speculation speculate(const Candidate& candidate, size_t worker) const {
         std::vector<Seed> seeds;
         for (int v : candidate.votes)
             seeds.push_back({endpoints_[size_t(v)].first, space_.distance(votes_.points[size_t(v)], candidate.transform)});
@@ -632,14 +643,17 @@ public:
         // A candidate that converges onto a discrete symmetry found before is that symmetry's;
         // one that converges onto a relation rejected before, over the same patch, would be
         // measured as it was and rejected again.
-        const KnownRelation known = [this, &out](const Transformation& t, const std::vector<int>& patch) {
+        const std::shared_ptr<const KnownRelations> relations = known_relations();
+        const KnownRelation known = [this, &out, &relations](const Transformation& t, const std::vector<int>& patch) {
             out.asked.push_back({t, patch});
-            return is_known(t) || rejected_over(t, patch);
+            return std::any_of(relations->found.begin(), relations->found.end(),
+                               [&](const Transformation& f) { return same_relation(t, f); }) ||
+                   rejected_over(relations->rejected, t, patch);
         };
         RejectedRelation rejection;
         out.result = verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known, &rejection);
         if (!rejection.source_vertices.empty()) out.rejection = std::move(rejection);
-        if (out.result) out.assessment = assess(*out.result, workers_[size_t(omp_get_thread_num())]);
+        if (out.result) out.assessment = assess(*out.result, workers_[worker]);
         return out;
     }
 
@@ -651,11 +665,12 @@ public:
         tried_.push_back(candidate.transform);
         ++verified_;
         const size_t families = findings_.families.size();
-        if (!ahead) ahead = speculate(candidate);
+        if (!ahead) ahead = speculate(candidate, 0);
         mark_tried(candidate);
         const Assessment assessment = std::move(ahead->assessment);
         if (auto verified = settle(std::move(*ahead), candidate))
             classify(std::move(*verified), assessment, candidate.height);
+        publish_known_relations();
         return findings_.families.size() > families;
     }
 
@@ -668,12 +683,13 @@ public:
     /// Whether a candidate's estimate T, refitted on `patch`, is a relation that acceptance
     /// rejected before over most of that patch (DetectionOptions::rejected_patch_share).
     /// Only T itself: T⁻¹ over the same patch is a different hypothesis.
-    bool rejected_over(const Transformation& T, const std::vector<int>& patch) const {
+    bool rejected_over(const std::vector<std::shared_ptr<const Rejected>>& rejected, const Transformation& T,
+                       const std::vector<int>& patch) const {
         if (patch.empty()) return false;
-        for (const Rejected& r : rejected_) {
-            if (space_.distance(T, r.transform) >= options_.cluster_bandwidth) continue;
+        for (const auto& r : rejected) {
+            if (space_.distance(T, r->transform) >= options_.cluster_bandwidth) continue;
             size_t inside = 0;
-            for (int v : patch) inside += size_t(r.source[size_t(v)]);
+            for (int v : patch) inside += size_t(r->source[size_t(v)]);
             if (double(inside) >= options_.rejected_patch_share * double(patch.size())) return true;
         }
         return false;
@@ -935,10 +951,28 @@ private:
                     f.support += candidate.height;
                     return std::nullopt;
                 }
-            if (rejected_over(ask.transform, ask.patch)) return std::nullopt;
+            if (rejected_over(rejected_, ask.transform, ask.patch)) return std::nullopt;
         }
-        if (s.rejection) rejected_.push_back({s.rejection->transform, flags(mesh_.vertex_count(), s.rejection->source_vertices)});
+        if (s.rejection)
+            rejected_.push_back(std::make_shared<const Rejected>(
+                Rejected{s.rejection->transform, flags(mesh_.vertex_count(), s.rejection->source_vertices)}));
         return std::move(s.result);
+    }
+
+    // What speculations check their estimates against: the discrete symmetries found and
+    // the relations rejected, as a copy, renewed after every candidate settled.  Both only
+    // grow, so a speculation's copy is what its turn knows or less (see settle).
+    std::shared_ptr<const KnownRelations> known_relations() const {
+        std::lock_guard<std::mutex> lock(known_mutex_);
+        return known_;
+    }
+    void publish_known_relations() {
+        if (known_->found.size() == findings_.discrete.size() && known_->rejected.size() == rejected_.size()) return;
+        auto relations = std::make_shared<KnownRelations>();
+        for (const Found& f : findings_.discrete) relations->found.push_back(f.symmetry.transform);
+        relations->rejected = rejected_;
+        std::lock_guard<std::mutex> lock(known_mutex_);
+        known_ = std::move(relations);
     }
 
     // A candidate on a surface of revolution that slides it along the axis (a glide or a
@@ -990,7 +1024,7 @@ private:
     }
 
     // The part of classifying a verified symmetry that depends on it alone (see classify).
-    Assessment assess(const VerifiedSymmetry& s, Worker& worker) const {
+    Assessment assess(const VerifiedSymmetry& s, const Worker& worker) const {
         Assessment a;
         const CurvatureAgreement agreement =
             curvature_agreement(mesh_, surface_, curvature_, *worker.workspace, *worker.roughness, *worker.neighbours, votes_.P,
@@ -1074,7 +1108,7 @@ private:
     }
 
     void classify_held_mirror(VerifiedSymmetry verified, int support) {
-        const Assessment assessment = assess(verified, workers_[size_t(omp_get_thread_num())]);
+        const Assessment assessment = assess(verified, workers_[0]);  // on the calling thread
         classify(std::move(verified), assessment, support);
     }
 
@@ -1194,11 +1228,9 @@ private:
     std::vector<char> scratch_ = std::vector<char>(size_t(mesh_.vertex_count()), 0);  // for area_of
     size_t explained_count_ = 0;
     std::vector<Transformation> tried_;
-    struct Rejected {
-        Transformation transform;
-        std::vector<char> source;  // flags per vertex
-    };
-    std::vector<Rejected> rejected_;  // what acceptance rejected, in turn order (settle)
+    std::vector<std::shared_ptr<const Rejected>> rejected_;  // what acceptance rejected, in turn order (settle)
+    mutable std::mutex known_mutex_;
+    std::shared_ptr<const KnownRelations> known_ = std::make_shared<KnownRelations>();  // see known_relations
     size_t verified_ = 0;
     int skipped_members_ = 0;
 };
@@ -1226,37 +1258,30 @@ void keep_points(const Votes& votes, const TransformationSpace& space, Transform
     for (const Transformation& t : votes.points) kept.improper.push_back(t.reflection);
 }
 
-// Candidate `first` and the next ones that would be verified now, candidates_per_thread
-// per thread and at most `budget`, verified at once, each on the next free thread.  Each
-// is settled in its turn against what was found meanwhile (Verifier::Speculation), so the
+using Speculations = Lookahead<Verifier::Speculation>;
+
+// Hands out to the lookahead's workers the candidates after `first` that would be verified
+// now, up to candidates_per_thread per thread (and `budget`) handed out at once.  Each is
+// settled in its turn against what was found meanwhile (Verifier::Speculation), so the
 // findings are those of verifying one candidate at a time, at any thread count; a
 // speculation that its turn finds explained by then is work lost, not a different result.
-void speculate_ahead(Verifier& verifier, const std::vector<Candidate>& candidates, size_t first,
-                     bool outside_explained_only, size_t budget, int candidates_per_thread,
-                     std::map<size_t, Verifier::Speculation>& ahead) {
+void hand_out_ahead(Verifier& verifier, const std::vector<Candidate>& candidates, size_t first,
+                    bool outside_explained_only, size_t budget, int candidates_per_thread, Speculations& ahead) {
+    if (ahead.workers() == 0) return;
     const size_t width = std::min(Verifier::threads() * size_t(candidates_per_thread), std::max<size_t>(1, budget));
-    std::vector<size_t> batch{first};
-    for (size_t j = first + 1; j < candidates.size() && batch.size() < width; ++j) {
-        if (ahead.count(j) || !verifier.would_verify(candidates[j])) continue;
+    std::vector<size_t> window = ahead.handed_out_from(first);
+    if (std::find(window.begin(), window.end(), first) == window.end()) window.insert(window.begin(), first);
+    for (size_t j = first + 1; j < candidates.size() && window.size() < width; ++j) {
+        if (std::find(window.begin(), window.end(), j) != window.end() || !verifier.would_verify(candidates[j])) continue;
         if (outside_explained_only && verifier.inside_what_was_verified(candidates[j])) continue;
-        // Tried once the batch's own relations are: it would be skipped in its turn.
-        if (std::any_of(batch.begin(), batch.end(), [&](size_t b) {
-                return verifier.same_relation(candidates[j].transform, candidates[b].transform);
+        // Tried once the window's own relations are: it would be skipped in its turn.
+        if (std::any_of(window.begin(), window.end(), [&](size_t w) {
+                return verifier.same_relation(candidates[j].transform, candidates[w].transform);
             }))
             continue;
-        batch.push_back(j);
+        ahead.hand_out(j);
+        window.push_back(j);
     }
-    std::vector<Verifier::Speculation> results(batch.size());
-    std::vector<std::exception_ptr> failures(batch.size());  // an exception must not leave a thread
-#pragma omp parallel for schedule(dynamic, 1) num_threads(int(std::min(batch.size(), Verifier::threads())))
-    for (long k = 0; k < long(batch.size()); ++k) try {
-            results[size_t(k)] = verifier.speculate(candidates[batch[size_t(k)]]);
-        } catch (...) {
-            failures[size_t(k)] = std::current_exception();
-        }
-    for (const std::exception_ptr& failure : failures)
-        if (failure) std::rethrow_exception(failure);
-    for (size_t k = 0; k < batch.size(); ++k) ahead.emplace(batch[k], std::move(results[k]));
 }
 
 // The samples `away` (indices into P), paired (§2.2) where P' did not draw them: P' holds
@@ -1345,33 +1370,37 @@ Findings search(const Model& model, Votes& votes, const TransformationSpace& spa
     // is all near-misses, the second pass must still reach the large symmetries' neighbours
     // (a torus's equatorial mirror beside its rotational family).
     const size_t first_pass_budget = size_t(options.first_pass_share * double(max_verified));
-    std::map<size_t, Verifier::Speculation> ahead;  // by candidate (see speculate_ahead)
+    // Candidates verified ahead of their turn on the other threads (hand_out_ahead).
+    Speculations ahead(Verifier::threads() - 1, [&verifier, &candidates](size_t j, size_t worker) {
+        return verifier.speculate(candidates[j], worker);
+    });
     for (int pass = 0; pass < 2; ++pass) {
         const size_t budget = pass == 0 ? first_pass_budget : max_verified;
         for (size_t i = 0; i < candidates.size() && !verifier.done(budget); ++i) {
             if (report) report(60 + int(38 * verifier.verified() / max_verified), "Verification by region growing");
             if (pass == 0 && verifier.inside_what_was_verified(candidates[i])) continue;
-            if (!ahead.count(i) && verifier.would_verify(candidates[i]))
-                speculate_ahead(verifier, candidates, i, pass == 0, budget - verifier.verified(),
-                                options.candidates_per_thread, ahead);
             std::optional<Verifier::Speculation> speculation;
-            if (auto it = ahead.find(i); it != ahead.end()) {
-                speculation = std::move(it->second);
-                ahead.erase(it);
+            if (verifier.would_verify(candidates[i])) {
+                hand_out_ahead(verifier, candidates, i, pass == 0, budget - verifier.verified(),
+                               options.candidates_per_thread, ahead);
+                speculation = ahead.take(i);
+            } else {
+                ahead.drop(i);
             }
             if (!verifier.consider(candidates[i], std::move(speculation))) continue;
             const std::vector<int> members = verifier.newest_family_votes();
             if (members.empty()) continue;
             for (int v : members) active[size_t(v)] = 0;
+            ahead.clear();  // the speculations read `candidates`
             auto again = Clock::now();
             candidates = clustering.candidates(active);
-            ahead.clear();
             const double seconds = seconds_since(again);
             result.seconds_clustering += seconds;
             reclustering += seconds;
             i = size_t(-1);  // from the top: what was verified already is skipped as tried
         }
     }
+    ahead.clear();  // the last pass adds votes, which the speculations read
     const double last_clustering = pass_over_votes_away(model, verifier, votes, space, options, max_modes, active);
     result.seconds_clustering += last_clustering;
     reclustering += last_clustering;

@@ -91,12 +91,11 @@ struct DetectionOptions {
     /// clusters; a share of P.
     int clusters_away = 10;
     double pair_away_share = 0.25;
-    /// Candidates verified at once, per thread (speculate_ahead in detection.cpp).  The
-    /// results do not depend on it; the time does: a batch waits for its slowest candidate,
-    /// and a candidate that an earlier one of its batch explains was verified for nothing.
-    /// Measured with 2 threads, verification seconds at 1 / 2 / 3 per thread: 13.0 / 11.4 /
-    /// 10.0 on a 160k-vertex scan (no symmetry, 60 clusters rejected), 14.2 / 13.5 / 14.5 on
-    /// a facade of 120 windows.
+    /// Candidates verified ahead of their turn, per thread (hand_out_ahead in
+    /// detection.cpp).  The results do not depend on it; the time does: a candidate that an
+    /// earlier one explains was verified for nothing, and too few ahead leave a thread idle.
+    /// Measured on the facade of 120 windows, whole processes paired with farm-bench: 1 per
+    /// thread took 1.08 times as long as 2 (runs 0.86-1.22).
     int candidates_per_thread = 2;
     double verification_tolerance = 0.01;  ///< distance accepted in region growing (§4), fraction of the diagonal
     double min_patch_area = 0.01;       ///< smallest reported patch, fraction of the total area

@@ -160,7 +160,7 @@ TEST(Detection, ATorusIsOneRotationalFamilyAndItsMirror) {
 }
 
 // Candidates are verified ahead of their turn, several at once, and settled in turn against
-// what was found meanwhile (detection.cpp, speculate_ahead): how many go ahead at once may
+// what was found meanwhile (detection.cpp, hand_out_ahead): how many go ahead at once may
 // change the time, never the result.  A row of four copies, each another tessellation, has
 // many candidates that converge onto relations found while they were verified ahead, even
 // on one thread.
