@@ -384,6 +384,33 @@ std::optional<Transformation> mirror_through_middle(const ContinuousFamily& f, c
     return mirror_normal_to(n, f.point);
 }
 
+std::vector<MirrorAxis> lines_of_mirrors(const std::vector<Eigen::Vector4d>& planes, size_t min_mirrors,
+                                         double tolerance, double degrees) {
+    const double sine = std::sin(degrees * M_PI / 180.0);
+    std::vector<MirrorAxis> lines;
+    for (size_t i = 0; i < planes.size(); ++i)
+        for (size_t j = i + 1; j < planes.size(); ++j) {
+            const Eigen::Vector3d ni = planes[i].head<3>(), nj = planes[j].head<3>();
+            const double di = planes[i][3], dj = planes[j][3];
+            Eigen::Vector3d u = ni.cross(nj);
+            if (u.norm() < sine) continue;  // parallel planes meet in no line
+            // The point of both planes nearest the origin: n_i·p = d_i and n_j·p = d_j.
+            const Eigen::Vector3d p = (di * nj.cross(u) + dj * u.cross(ni)) / u.squaredNorm();
+            u.normalize();
+            if (std::any_of(lines.begin(), lines.end(), [&](const MirrorAxis& l) {
+                    return std::abs(l.direction.dot(u)) >= std::cos(degrees * M_PI / 180.0) &&
+                           distance_to_line(l.point, l.direction, p) <= tolerance;
+                }))
+                continue;
+            MirrorAxis line{p, u, {}};
+            for (size_t k = 0; k < planes.size(); ++k)
+                if (std::abs(planes[k].head<3>().dot(u)) <= sine && std::abs(planes[k].head<3>().dot(p) - planes[k][3]) <= tolerance)
+                    line.mirrors.push_back(k);
+            if (line.mirrors.size() >= min_mirrors) lines.push_back(std::move(line));
+        }
+    return lines;
+}
+
 namespace {
 
 ContinuousFamily plane_of_sample(const SurfaceSignature& sample, double radius) {

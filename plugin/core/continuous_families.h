@@ -141,6 +141,10 @@ struct ContinuousFamilyOptions {
     /// from this many of the member's source vertices spread over its patch (a count): one
     /// seed grows a connected patch whole, the others start the components it misses.
     int mirror_seeds = 16;
+    /// Where this many verified mirrors or more pass through one line and no rotational
+    /// family about it was found, the vertices all of them map are tried for one (see
+    /// Verifier::add_families_of_mirror_axes in detection.cpp; a count).
+    size_t min_mirrors_through_axis = 3;
     /// The surface's roughness (surface_roughness); the pipeline measures it on the surface
     /// it analyses.  Each test above allows for it, in these units of it, so that a family
     /// on a noisy scan is recognised and a clean surface is judged as before (measured, face
@@ -232,6 +236,21 @@ std::optional<Transformation> mirror_in_rotoreflection(const ContinuousFamily& f
 /// (`degrees` as for is_member).
 std::optional<Transformation> mirror_through_middle(const ContinuousFamily& family, const Transformation& T,
                                                     double tolerance, double degrees);
+
+/// A line that several mirror planes pass through, and which of the mirrors do.
+struct MirrorAxis {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit
+    std::vector<size_t> mirrors;                          ///< indices into the planes given
+};
+
+/// The lines that at least `min_mirrors` of the mirror planes n·x = d (rows n, d; n unit)
+/// pass through, each line once: a plane passes through it when its normal is within
+/// `degrees` of normal to the line and a point of the line within `tolerance` of it.  A
+/// surface of revolution is mapped onto itself by the mirror across every plane through its
+/// axis, so three or more such mirrors say where to look for its rotational family.
+std::vector<MirrorAxis> lines_of_mirrors(const std::vector<Eigen::Vector4d>& planes, size_t min_mirrors,
+                                         double tolerance, double degrees);
 
 /// The families a sample that umbilic pruning (§2.1) discarded suggests, to be tried in
 /// this order: for a flat sample (largest |κ| r below `flatness`) the plane through it,

@@ -818,6 +818,51 @@ public:
         return true;
     }
 
+    /// The surfaces of revolution that only mirrors were found on.  Every mirror across a
+    /// plane through the axis maps such a surface onto itself, but where parts are attached
+    /// to it (a wingnut's blades) each mirror's patch spills onto the parts' roots, so no
+    /// mirror's patch pair slides and no family is recorded; the mirrors are then reported
+    /// one by one (measured on a wingnut's point cloud: 14 mirrors through its hub's axis,
+    /// each over the hub and 6-32 % of its patch on the blades).  Where
+    /// min_mirrors_through_axis verified mirrors pass through one line, the vertices all of
+    /// them map, on both sides, are the surface of revolution without the roots: its family
+    /// is recorded if slippage finds it there about that line, and the mirrors are left out
+    /// as its members (drop_partial_family_relations).
+    void add_families_of_mirror_axes() {
+        std::vector<Eigen::Vector4d> planes;
+        std::vector<const VerifiedSymmetry*> mirrors;
+        for (const Found& f : findings_.discrete)
+            if (const std::optional<Eigen::Vector4d> plane = mirror_plane_of(f.symmetry)) {
+                planes.push_back(*plane);
+                mirrors.push_back(&f.symmetry);
+            }
+        const double degrees = co_.axis_agreement_degrees;
+        for (const MirrorAxis& axis : lines_of_mirrors(planes, co_.min_mirrors_through_axis, vo_.tolerance, degrees)) {
+            ContinuousFamily about_axis;
+            about_axis.kind = ContinuousKind::Rotational;
+            about_axis.point = axis.point;
+            about_axis.direction = axis.direction;
+            if (std::any_of(findings_.families.begin(), findings_.families.end(), [&](const ContinuousFamily& f) {
+                    return same_family(f, about_axis, vo_.tolerance, co_);
+                }))
+                continue;
+            std::vector<char> mapped_by_all(size_t(mesh_.vertex_count()), 1);
+            for (size_t k : axis.mirrors) {
+                const std::vector<char> both = flags(mesh_.vertex_count(), sorted_union(mirrors[k]->source_vertices,
+                                                                                           mirrors[k]->target_vertices));
+                for (size_t v = 0; v < both.size(); ++v) mapped_by_all[v] &= both[v];
+            }
+            std::vector<int> common;
+            for (size_t v = 0; v < mapped_by_all.size(); ++v)
+                if (mapped_by_all[v]) common.push_back(int(v));
+            if (area_of(mesh_, common, scratch_) < vo_.min_patch_area) continue;
+            ContinuousFamily family = slippable_family(mesh_, common, vo_.tolerance, co_);
+            if (!same_family(family, about_axis, vo_.tolerance, co_)) continue;
+            family.vertices = grow_family_patch(mesh_, family, common, vo_.tolerance, co_);
+            record_family(std::move(family), 0);
+        }
+    }
+
     /// The cylinders among the kept samples: a thin cylinder on a larger body (a boat's mast)
     /// has too few pairs for its ridge in Γ to rise above the body's clusters, but each of
     /// its samples says where its axis is (cylinder_of_sample).  Grown, refined by slippage
@@ -1150,6 +1195,23 @@ private:
         return refined;
     }
 
+    // The plane (n, d) of a verified mirror, n·x = d: T within the tolerance of the pure
+    // mirror nearest to it over the patch (not a glide, nor a rotoreflection).
+    std::optional<Eigen::Vector4d> mirror_plane_of(const VerifiedSymmetry& s) const {
+        if (!s.transform.reflection || std::abs(s.transform.scale - 1) > 1e-6 || s.source_vertices.empty())
+            return std::nullopt;
+        Eigen::Vector3d n;
+        double d;
+        mirror_plane(s.transform, n, d);
+        const Transformation mirror = pure_mirror(n, d);
+        const size_t stride = std::max<size_t>(1, s.source_vertices.size() / 32);
+        for (size_t i = 0; i < s.source_vertices.size(); i += stride) {
+            const Eigen::Vector3d& p = mesh_.positions[size_t(s.source_vertices[i])];
+            if ((mirror.apply(p) - s.transform.apply(p)).norm() > vo_.tolerance) return std::nullopt;
+        }
+        return Eigen::Vector4d(n.x(), n.y(), n.z(), d);
+    }
+
     // A family found twice (two members of one surface of revolution) is one family.
     // Returns the index of the family recorded (or joined).
     size_t record_family(ContinuousFamily family, int support) {
@@ -1404,6 +1466,7 @@ Findings search(const Model& model, Votes& votes, const TransformationSpace& spa
     const double last_clustering = pass_over_votes_away(model, verifier, votes, space, options, max_modes, active);
     result.seconds_clustering += last_clustering;
     reclustering += last_clustering;
+    verifier.add_families_of_mirror_axes();
     verifier.add_cylinders_of_kept_samples();
     verifier.check_families();
     verifier.drop_partial_family_relations();

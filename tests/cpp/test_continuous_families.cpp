@@ -382,3 +382,36 @@ TEST(ContinuousFamilies, AMirrorAlongACylindersSideGivesTheMirrorThroughItsMiddl
     elsewhere.translation += Eigen::Vector3d(0.1, 0, 0);
     EXPECT_FALSE(mirror_through_middle(cylinder, elsewhere, tol, degrees).has_value());
 }
+
+TEST(ContinuousFamilies, MirrorsThroughOneLineGiveThatLineOnce) {
+    // Planes through the line x = 0.3, y = -0.2 (along z) at five angles, oracle: the
+    // line itself; beside them a plane parallel to one of them, and one normal to the line.
+    const Eigen::Vector3d on_line(0.3, -0.2, 0.7);
+    std::vector<Eigen::Vector4d> planes;
+    auto plane = [](const Eigen::Vector3d& n, const Eigen::Vector3d& through) {
+        return Eigen::Vector4d(n.x(), n.y(), n.z(), n.dot(through));
+    };
+    for (int k = 0; k < 5; ++k) {
+        const double angle = k * M_PI / 5 + 0.1;
+        planes.push_back(plane(Eigen::Vector3d(std::cos(angle), std::sin(angle), 0), on_line));
+    }
+    const Eigen::Vector3d n0 = planes[0].head<3>();
+    planes.push_back(plane(n0, on_line + 0.5 * n0));                     // parallel to the first
+    planes.push_back(plane(Eigen::Vector3d::UnitZ(), Eigen::Vector3d(0, 0, 0.4)));  // normal to the line
+    const double tol = 0.01, degrees = 2;
+    const std::vector<MirrorAxis> lines = lines_of_mirrors(planes, 3, tol, degrees);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_NEAR(std::abs(lines[0].direction.z()), 1, 1e-12);
+    EXPECT_LT(((lines[0].point - on_line) - (lines[0].point - on_line).dot(lines[0].direction) * lines[0].direction).norm(), 1e-9);
+    EXPECT_EQ(lines[0].mirrors, (std::vector<size_t>{0, 1, 2, 3, 4}));
+    // A plane tilted by 5 degrees from the line, or passing 0.035 beside it, is not through
+    // it.  (Nearer, the planes meet in other lines that three of them pass through within
+    // the tolerance and angle.)
+    std::vector<Eigen::Vector4d> off = {planes[0], planes[1]};
+    const double tilt = 5 * M_PI / 180;
+    off.push_back(plane(Eigen::Vector3d(0, std::cos(tilt), std::sin(tilt)), on_line));
+    off.push_back(plane(Eigen::Vector3d(1, 1, 0).normalized(), on_line + Eigen::Vector3d(0.05, 0, 0)));
+    EXPECT_TRUE(lines_of_mirrors(off, 3, tol, degrees).empty());
+    // Two planes are not enough for three.
+    EXPECT_TRUE(lines_of_mirrors({planes[0], planes[1]}, 3, tol, degrees).empty());
+}
