@@ -1752,6 +1752,8 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
         supports.push_back(f.support);
         family_of.push_back(nullptr);
     }
+    // A family stands for a continuum of symmetries in one report, and takes no discrete
+    // symmetry's slot: up to max_symmetries of each are reported.
     int families = 0;
     for (size_t k = 0; k < findings.families.size() && families < options.max_symmetries; ++k) {
         if (!findings.family_holds[k]) continue;

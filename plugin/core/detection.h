@@ -99,7 +99,9 @@ struct DetectionOptions {
     int candidates_per_thread = 2;
     double verification_tolerance = 0.01;  ///< distance accepted in region growing (§4), fraction of the diagonal
     double min_patch_area = 0.01;       ///< smallest reported patch, fraction of the total area
-    int max_symmetries = 20;            ///< at most this many symmetries are reported
+    /// At most this many discrete symmetries are reported, and at most this many continuous
+    /// families besides them (a family is one report for a continuum and takes no discrete place).
+    int max_symmetries = 20;
     bool refine_with_icp = true;        ///< ICP refinement during region growing (§4)
     bool reduce_basis = true;           ///< Algorithm 1 (§4.1)
     int basis_loop_length = 3;          ///< η of Algorithm 1

@@ -111,7 +111,9 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, s
 		"Symmetric patches smaller than this percentage of the total surface area are discarded."));
 	parameters.addParam(RichInt(
 		"max_symmetries", o.max_symmetries, "Maximum number of symmetries",
-		"At most this many symmetries are reported, the most significant first."));
+		"At most this many discrete symmetries are reported, the most significant first. "
+		"A continuous family (a surface of revolution, a plane, a sphere) is one report besides "
+		"them and takes none of their places; at most this many families are reported too."));
 	parameters.addParam(RichBool(
 		"refine_with_icp", o.refine_with_icp, "Refine with ICP",
 		"Refine each transformation with iterative closest points while its patch grows (§4)."));

@@ -244,7 +244,13 @@ bool increasing_in_range(const std::vector<int>& rows, Eigen::Index n) {
 // What every result must satisfy, whatever the mesh: a non-empty string says what is wrong.
 std::string defect_of(const DetectionResult& r, const Case& c) {
     const Eigen::Index n = c.mesh.V.rows();
-    if (r.symmetries.size() > size_t(c.options.max_symmetries)) return "more symmetries than max_symmetries";
+    // max_symmetries discrete symmetries at most, and as many continuous families besides them.
+    const auto families = std::count_if(r.symmetries.begin(), r.symmetries.end(), [](const DetectedSymmetry& s) {
+        return s.continuous_kind != ContinuousKind::Discrete;
+    });
+    if (Eigen::Index(r.symmetries.size()) - families > c.options.max_symmetries)
+        return "more discrete symmetries than max_symmetries";
+    if (families > c.options.max_symmetries) return "more continuous families than max_symmetries";
     if (Eigen::Index(r.vertex_deviation.size()) != n || Eigen::Index(r.vertex_symmetry_id.size()) != n)
         return "per-vertex outputs not one per input vertex";
     for (Eigen::Index v = 0; v < n; ++v) {

@@ -5,6 +5,9 @@ as it was.  At an end of the range it finishes: with a result (the planted mirro
 setting still allows finding it), or with a sentence saying why it could not look; never a
 crash, an internal error or a changed input.
 """
+import os
+import sys
+
 import numpy as np
 import pymeshlab
 import pytest
@@ -122,3 +125,26 @@ def test_an_end_of_the_range_finishes(requires_pipeline, mirrored, name, value, 
     if finds_mirror:
         assert mirror_error(result) < 0.2, result["symmetry_count"]
     assert len(ms.mesh(0).vertex_custom_scalar_attribute_array("symmetry_id")) == ms.mesh(0).vertex_number()
+
+
+
+
+@pytest.mark.parametrize("limit", [1, 2, 3])
+def test_max_symmetries_bounds_the_discrete_symmetries_and_families_take_none_of_their_places(
+        requires_pipeline, limit):
+    """The wingnut (tests/scenes.py) has three turns of its blades and three families (the
+    hub's surface of revolution, its two flat ends).  `limit` discrete symmetries are
+    reported, the largest patches first, whatever families are found beside them (a family
+    is one report for a continuum of symmetries), and at most `limit` families."""
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    import scenes
+
+    scene = scenes.make_scene("wingnut", 0)
+    ms = scene.meshset()
+    result = getattr(ms, FILTER)(**{**scene.filter_params, "max_symmetries": limit})
+    kinds = np.asarray(result["continuous_kinds"])
+    discrete = kinds == scenes.KIND_DISCRETE
+    assert np.count_nonzero(discrete) == limit
+    assert 1 <= np.count_nonzero(~discrete) <= limit
+    areas = np.asarray(result["source_areas"])
+    assert list(areas) == sorted(areas, reverse=True)
