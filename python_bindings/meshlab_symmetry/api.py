@@ -83,7 +83,8 @@ PARAMETERS = (
               "smaller patches are not reported, and the paired subset is sized to find this one, in [0, 1] "
               "(the filter's min_patch_area is this in percent)", "area"),
     Parameter("max_symmetries", 20, "symmetries",
-              "at most this many are reported, most significant first, 1 to 1000"),
+              "at most this many discrete symmetries are reported, most significant first, and at most "
+              "this many continuous families besides them (one report each), 1 to 1000"),
     Parameter("refine_with_icp", True, "yes/no",
               "refine each transformation by ICP while its patch grows (§4)"),
     Parameter("reduce_basis", True, "yes/no",
