@@ -80,6 +80,13 @@ double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& d, cons
     return (q - nearest_on_line(p, d, q)).norm();
 }
 
+// Two lines (point, unit direction) are one: parallel within `degrees` and the second's
+// point within `tolerance` of the first line.
+bool same_line(const Eigen::Vector3d& pa, const Eigen::Vector3d& da, const Eigen::Vector3d& pb,
+               const Eigen::Vector3d& db, double tolerance, double degrees) {
+    return std::abs(da.dot(db)) >= cosine_of(degrees) && distance_to_line(pa, da, pb) <= tolerance;
+}
+
 // One slippable motion: a translation when it hardly turns, a rotation about an axis
 // otherwise, or a screw when it also advances along the axis.
 void classify_single_motion(const Motion& m, const Eigen::Vector3d& centroid, double extent,
@@ -386,7 +393,7 @@ std::optional<Transformation> mirror_through_middle(const ContinuousFamily& f, c
 
 std::vector<MirrorAxis> lines_of_mirrors(const std::vector<Eigen::Vector4d>& planes, size_t min_mirrors,
                                          double tolerance, double degrees) {
-    const double sine = std::sin(degrees * M_PI / 180.0);
+    const double sine = sine_of(degrees);
     std::vector<MirrorAxis> lines;
     for (size_t i = 0; i < planes.size(); ++i)
         for (size_t j = i + 1; j < planes.size(); ++j) {
@@ -398,8 +405,7 @@ std::vector<MirrorAxis> lines_of_mirrors(const std::vector<Eigen::Vector4d>& pla
             const Eigen::Vector3d p = (di * nj.cross(u) + dj * u.cross(ni)) / u.squaredNorm();
             u.normalize();
             if (std::any_of(lines.begin(), lines.end(), [&](const MirrorAxis& l) {
-                    return std::abs(l.direction.dot(u)) >= std::cos(degrees * M_PI / 180.0) &&
-                           distance_to_line(l.point, l.direction, p) <= tolerance;
+                    return same_line(l.point, l.direction, p, u, tolerance, degrees);
                 }))
                 continue;
             MirrorAxis line{p, u, {}};
@@ -469,11 +475,9 @@ ContinuousFamily cylinder_of_sample(const SurfaceSignature& sample, double radiu
     family.direction = first_vanishes ? sample.direction1 : sample.direction2;
     family.point = sample.position - sample.normal / bending;  // as for a sphere: the outward normal points away from a convex axis
     family.extent = radius;
-    Motion turn, slide;
-    turn.omega = family.direction;
-    turn.v = -family.direction.cross(family.point);
+    Motion slide;
     slide.v = family.direction;
-    family.motions = {turn, slide};
+    family.motions = {Motion::turn_about(family.point, family.direction), slide};
     return family;
 }
 
@@ -506,7 +510,7 @@ bool same_family(const ContinuousFamily& a, const ContinuousFamily& b, double to
         return !common.empty();
     }
     default:
-        return std::abs(a.direction.dot(b.direction)) >= parallel && distance_to_line(a.point, a.direction, b.point) <= tolerance;
+        return same_line(a.point, a.direction, b.point, b.direction, tolerance, options.axis_agreement_degrees);
     }
 }
 
@@ -679,35 +683,77 @@ FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& su
     return check;
 }
 
+namespace {
+
+// Whether a vertex belongs to the family's patch: some face around it is tangent to every
+// generating motion there (within tangency_degrees), and for a plane or a sphere it lies on
+// the shape within the tolerance.
+class FamilyTangency {
+public:
+    FamilyTangency(const MeshNeighbourhoods& mesh, const ContinuousFamily& family, double tolerance,
+                   const ContinuousFamilyOptions& options)
+        : mesh_(mesh), family_(family), tolerance_(tolerance), off_(shape_bound(options, tolerance)) {
+        const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
+        max_sine_ = tangency_bound(sine_of(shape ? options.shape_tangency_degrees : options.tangency_degrees), options);
+    }
+
+    bool operator()(int v) const {
+        const Eigen::Vector3d& p = mesh_.positions[size_t(v)];
+        if (!on_shape(p)) return false;
+        for (int k = mesh_.face_offsets[v]; k < mesh_.face_offsets[v + 1]; ++k)
+            if (tangent_to_motions(mesh_.face_normals[size_t(mesh_.faces_around[size_t(k)])], p)) return true;
+        return false;
+    }
+
+private:
+    bool on_shape(const Eigen::Vector3d& p) const {
+        if (family_.kind == ContinuousKind::Planar) return std::abs(family_.direction.dot(p - family_.point)) <= off_;
+        if (family_.kind == ContinuousKind::Spherical) return std::abs((p - family_.point).norm() - family_.radius) <= off_;
+        return true;
+    }
+
+    bool tangent_to_motions(const Eigen::Vector3d& n, const Eigen::Vector3d& p) const {
+        for (const Motion& m : family_.motions) {
+            const Eigen::Vector3d u = m.velocity(p);
+            // Near a rotation axis points hardly move: measure against the speed a
+            // tolerance away from it.
+            const double speed = std::max(u.norm(), m.omega.norm() * tolerance_);
+            if (std::abs(n.dot(u)) > max_sine_ * speed) return false;
+        }
+        return true;
+    }
+
+    const MeshNeighbourhoods& mesh_;
+    const ContinuousFamily& family_;
+    double tolerance_, off_, max_sine_ = 0;
+};
+
+}  // namespace
+
+double mean_lean_from(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, const Eigen::Vector3d& direction) {
+    const PatchFaces faces = patch_faces(mesh, patch);
+    double total = 0, lean = 0;
+    for (size_t i = 0; i < faces.areas.size(); ++i) {
+        total += faces.areas[i];
+        lean += faces.areas[i] * faces.normals[i].cross(direction).norm();
+    }
+    return total > 0 ? lean / total : 0.0;
+}
+
+std::vector<int> tangent_vertices(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,
+                                  const std::vector<int>& vertices, double tolerance,
+                                  const ContinuousFamilyOptions& options) {
+    const FamilyTangency tangent(mesh, family, tolerance, options);
+    std::vector<int> kept;
+    for (int v : vertices)
+        if (tangent(v)) kept.push_back(v);
+    return kept;
+}
+
 std::vector<int> grow_family_patch(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,
                                    const std::vector<int>& seeds, double tolerance,
                                    const ContinuousFamilyOptions& options) {
-    const bool shape = family.kind == ContinuousKind::Planar || family.kind == ContinuousKind::Spherical;
-    const double max_sine = tangency_bound(sine_of(shape ? options.shape_tangency_degrees : options.tangency_degrees), options);
-    auto on_shape = [&](const Eigen::Vector3d& p) {
-        const double off = shape_bound(options, tolerance);
-        if (family.kind == ContinuousKind::Planar) return std::abs(family.direction.dot(p - family.point)) <= off;
-        if (family.kind == ContinuousKind::Spherical) return std::abs((p - family.point).norm() - family.radius) <= off;
-        return true;
-    };
-    // Some face around v is tangent to every generating motion at v.
-    auto tangent = [&](int v) {
-        const Eigen::Vector3d& p = mesh.positions[size_t(v)];
-        if (!on_shape(p)) return false;
-        for (int k = mesh.face_offsets[v]; k < mesh.face_offsets[v + 1]; ++k) {
-            const Eigen::Vector3d& n = mesh.face_normals[size_t(mesh.faces_around[size_t(k)])];
-            bool all = true;
-            for (const Motion& m : family.motions) {
-                const Eigen::Vector3d u = m.velocity(p);
-                // Near a rotation axis points hardly move: measure against the speed a
-                // tolerance away from it.
-                const double speed = std::max(u.norm(), m.omega.norm() * tolerance);
-                if (std::abs(n.dot(u)) > max_sine * speed) { all = false; break; }
-            }
-            if (all) return true;
-        }
-        return false;
-    };
+    const FamilyTangency tangent(mesh, family, tolerance, options);
     std::vector<char> state(size_t(mesh.vertex_count()), 0);  // 1 in the patch, 2 rejected
     std::deque<int> queue;
     for (int s : seeds)

@@ -38,6 +38,11 @@ struct Motion {
     Eigen::Vector3d omega = Eigen::Vector3d::Zero();
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
     Eigen::Vector3d velocity(const Eigen::Vector3d& p) const { return omega.cross(p) + v; }
+
+    /// The unit turn about the line through `point` along the unit `direction`.
+    static Motion turn_about(const Eigen::Vector3d& point, const Eigen::Vector3d& direction) {
+        return {direction, -direction.cross(point)};
+    }
 };
 
 struct ContinuousFamily {
@@ -143,8 +148,16 @@ struct ContinuousFamilyOptions {
     int mirror_seeds = 16;
     /// Where this many verified mirrors or more pass through one line and no rotational
     /// family about it was found, the vertices all of them map are tried for one (see
-    /// Verifier::add_families_of_mirror_axes in detection.cpp; a count).
-    size_t min_mirrors_through_axis = 3;
+    /// Verifier::add_families_of_mirror_axes in detection.cpp; a count).  Two planes always
+    /// meet in a line unless parallel: slippage on what both map, not their number, is the
+    /// judge (a box's two mirrors meet in a line too, and its faces do not turn about it).
+    size_t min_mirrors_through_axis = 2;
+    /// ...and where the points they all map, and a turn about the line slides along, lean
+    /// from the line by at least this much (mean_lean_from: the mean sine of the angle
+    /// between normal and line).  Measured on the points of the lines tried: 0.70 on the
+    /// wingnut's hub (clean and noisy clouds), at most 0.03 where a facade's two mirrors meet
+    /// in the normal of its wall, whose faces a turn about any normal slides.
+    double min_lean_from_mirror_axis = 0.25;
     /// The surface's roughness (surface_roughness); the pipeline measures it on the surface
     /// it analyses.  Each test above allows for it, in these units of it, so that a family
     /// on a noisy scan is recognised and a clean surface is judged as before (measured, face
@@ -248,7 +261,7 @@ struct MirrorAxis {
 /// pass through, each line once: a plane passes through it when its normal is within
 /// `degrees` of normal to the line and a point of the line within `tolerance` of it.  A
 /// surface of revolution is mapped onto itself by the mirror across every plane through its
-/// axis, so three or more such mirrors say where to look for its rotational family.
+/// axis, so two or more such mirrors say where to look for its rotational family.
 std::vector<MirrorAxis> lines_of_mirrors(const std::vector<Eigen::Vector4d>& planes, size_t min_mirrors,
                                          double tolerance, double degrees);
 
@@ -293,6 +306,19 @@ struct FamilyCheck {
 /// `edge_length` is the surface's median edge (median_edge_length), absolute units.
 FamilyCheck check_members(const MeshNeighbourhoods& mesh, const SurfaceQuery& surface, const ContinuousFamily& family,
                           double tolerance, double edge_length);
+
+/// The area-weighted mean, over the patch's faces (a cloud's points), of the sine of the
+/// angle between the normal and the unit `direction`: 0 on flat faces normal to it, 1 on a
+/// cylinder about it.  A turn about a line slides flat faces normal to it as well as a turn
+/// about any line parallel to it: only the patch's lean pins a surface of revolution's axis.
+double mean_lean_from(const MeshNeighbourhoods& mesh, const std::vector<int>& patch, const Eigen::Vector3d& direction);
+
+/// The vertices of `vertices` that grow_family_patch would take into the family's patch, in
+/// their order: those around which some face is tangent to every generating motion (and
+/// which lie on a plane's or a sphere's shape), without growing beyond them.
+std::vector<int> tangent_vertices(const MeshNeighbourhoods& mesh, const ContinuousFamily& family,
+                                  const std::vector<int>& vertices, double tolerance,
+                                  const ContinuousFamilyOptions& options);
 
 /// The family's whole patch: grown over the mesh from `seeds` through every vertex around
 /// which some face is tangent to every generating motion (within tangency_degrees), and

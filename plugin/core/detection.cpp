@@ -646,9 +646,7 @@ public:
         const std::shared_ptr<const KnownRelations> relations = known_relations();
         const KnownRelation known = [this, &out, &relations](const Transformation& t, const std::vector<int>& patch) {
             out.asked.push_back({t, patch});
-            return std::any_of(relations->found.begin(), relations->found.end(),
-                               [&](const Transformation& f) { return same_relation(t, f); }) ||
-                   rejected_over(relations->rejected, t, patch);
+            return found_among(relations->found, t) || rejected_over(relations->rejected, t, patch);
         };
         RejectedRelation rejection;
         out.result = verify_candidate(mesh_, surface_, candidate.transform, std::move(seeds), vo_, known, &rejection);
@@ -699,6 +697,11 @@ public:
     bool is_known(const Transformation& T) const {
         return std::any_of(findings_.discrete.begin(), findings_.discrete.end(),
                            [&](const Found& f) { return same_relation(T, f.symmetry.transform); });
+    }
+
+    /// Whether T is one of the relations `found` (a snapshot of them: see known_relations).
+    bool found_among(const std::vector<Transformation>& found, const Transformation& T) const {
+        return std::any_of(found.begin(), found.end(), [&](const Transformation& f) { return same_relation(T, f); });
     }
 
     /// Whether most of the candidate's votes join points that lie on the patches of what
@@ -825,9 +828,14 @@ public:
     /// one by one (measured on a wingnut's point cloud: 14 mirrors through its hub's axis,
     /// each over the hub and 6-32 % of its patch on the blades).  Where
     /// min_mirrors_through_axis verified mirrors pass through one line, the vertices all of
-    /// them map, on both sides, are the surface of revolution without the roots: its family
-    /// is recorded if slippage finds it there about that line, and the mirrors are left out
-    /// as its members (drop_partial_family_relations).
+    /// them map, on both sides, and that a turn about the line slides along (tangent_vertices:
+    /// not the blades' faces, which the turn moves across) are the surface of revolution:
+    /// its family is recorded if slippage finds it there about that line, and the mirrors are
+    /// left out as its members (drop_partial_family_relations).  Flat faces normal to the
+    /// line (a wall where two of its mirrors meet) are passed over: a turn about any line
+    /// parallel to it slides them too, so they pin no axis.  On the noisy cloud only two
+    /// mirrors were verified, 60° apart, and the vertices both map still held pieces of the
+    /// blades, enough for slippage to find no family until the blades were left out.
     void add_families_of_mirror_axes() {
         std::vector<Eigen::Vector4d> planes;
         std::vector<const VerifiedSymmetry*> mirrors;
@@ -842,20 +850,25 @@ public:
             about_axis.kind = ContinuousKind::Rotational;
             about_axis.point = axis.point;
             about_axis.direction = axis.direction;
+            about_axis.motions = {Motion::turn_about(axis.point, axis.direction)};
             if (std::any_of(findings_.families.begin(), findings_.families.end(), [&](const ContinuousFamily& f) {
                     return same_family(f, about_axis, vo_.tolerance, co_);
                 }))
                 continue;
-            std::vector<char> mapped_by_all(size_t(mesh_.vertex_count()), 1);
+            // How many of the line's mirrors map each vertex, from it or onto it.
+            std::vector<size_t> mapped(size_t(mesh_.vertex_count()), 0);
             for (size_t k : axis.mirrors) {
-                const std::vector<char> both = flags(mesh_.vertex_count(), sorted_union(mirrors[k]->source_vertices,
-                                                                                           mirrors[k]->target_vertices));
-                for (size_t v = 0; v < both.size(); ++v) mapped_by_all[v] &= both[v];
+                std::vector<char> both(mapped.size(), 0);
+                for (int v : mirrors[k]->source_vertices) both[size_t(v)] = 1;
+                for (int v : mirrors[k]->target_vertices) both[size_t(v)] = 1;
+                for (size_t v = 0; v < both.size(); ++v) mapped[v] += both[v];
             }
             std::vector<int> common;
-            for (size_t v = 0; v < mapped_by_all.size(); ++v)
-                if (mapped_by_all[v]) common.push_back(int(v));
+            for (size_t v = 0; v < mapped.size(); ++v)
+                if (mapped[v] == axis.mirrors.size()) common.push_back(int(v));
+            common = tangent_vertices(mesh_, about_axis, common, vo_.tolerance, co_);
             if (area_of(mesh_, common, scratch_) < vo_.min_patch_area) continue;
+            if (mean_lean_from(mesh_, common, axis.direction) < co_.min_lean_from_mirror_axis) continue;
             ContinuousFamily family = slippable_family(mesh_, common, vo_.tolerance, co_);
             if (!same_family(family, about_axis, vo_.tolerance, co_)) continue;
             family.vertices = grow_family_patch(mesh_, family, common, vo_.tolerance, co_);
@@ -1060,10 +1073,16 @@ private:
     // Whether T moves the symmetry's source patch where the symmetry does, within what a
     // cluster's mode can tell (a few vertices spread over the patch are compared).
     bool moves_alike(const Transformation& T, const VerifiedSymmetry& s) const {
+        return moves_alike(T, s, mode_slack_distance_);
+    }
+
+    // Whether T moves every 32nd vertex of the symmetry's source patch within `distance` of
+    // where the symmetry does.
+    bool moves_alike(const Transformation& T, const VerifiedSymmetry& s, double distance) const {
         const size_t stride = std::max<size_t>(1, s.source_vertices.size() / 32);
         for (size_t i = 0; i < s.source_vertices.size(); i += stride) {
             const Eigen::Vector3d& p = mesh_.positions[size_t(s.source_vertices[i])];
-            if ((T.apply(p) - s.transform.apply(p)).norm() > mode_slack_distance_) return false;
+            if ((T.apply(p) - s.transform.apply(p)).norm() > distance) return false;
         }
         return true;
     }
@@ -1203,12 +1222,7 @@ private:
         Eigen::Vector3d n;
         double d;
         mirror_plane(s.transform, n, d);
-        const Transformation mirror = pure_mirror(n, d);
-        const size_t stride = std::max<size_t>(1, s.source_vertices.size() / 32);
-        for (size_t i = 0; i < s.source_vertices.size(); i += stride) {
-            const Eigen::Vector3d& p = mesh_.positions[size_t(s.source_vertices[i])];
-            if ((mirror.apply(p) - s.transform.apply(p)).norm() > vo_.tolerance) return std::nullopt;
-        }
+        if (!moves_alike(pure_mirror(n, d), s, vo_.tolerance)) return std::nullopt;
         return Eigen::Vector4d(n.x(), n.y(), n.z(), d);
     }
 

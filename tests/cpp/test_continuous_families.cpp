@@ -415,3 +415,61 @@ TEST(ContinuousFamilies, MirrorsThroughOneLineGiveThatLineOnce) {
     // Two planes are not enough for three.
     EXPECT_TRUE(lines_of_mirrors({planes[0], planes[1]}, 3, tol, degrees).empty());
 }
+
+TEST(ContinuousFamilies, ATurnAboutTheAxisKeepsTheSurfaceOfRevolutionNotAFinAlongIt) {
+    // A cylinder about z with a thin fin along the meridian plane y = 0 (a wingnut's blade
+    // on its hub).  Oracle: the turn about z slides along the cylinder's side and moves
+    // across the fin's two large faces, so the cylinder's vertices are tangent and the
+    // fin's face vertices are not (its thin rim, whose normals lie in the meridian plane,
+    // may be).
+    const double R = 0.5;
+    const Shape side = cylinder(R, 2.0, 96, 40);
+    const Shape fin = transformed(box(0.3, 0.01, 0.6, 8), Eigen::Matrix3d::Identity(), Eigen::Vector3d(R + 0.3, 0, 1.0));
+    Analysed a;
+    analyse(merged(side, fin), a);
+    const ContinuousFamilyOptions options;
+    ContinuousFamily about_z = revolution_about_z();
+    about_z.motions = {Motion::turn_about(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())};
+    const std::vector<int> kept = tangent_vertices(a.n, about_z, a.all, 0.01 * a.diagonal, options);
+    std::vector<char> is_kept(a.all.size(), 0);
+    for (int v : kept) is_kept[size_t(v)] = 1;
+    const Eigen::Index side_vertices = side.V.rows();
+    int side_kept = 0, fin_face_vertices = 0, fin_face_kept = 0;
+    for (int v : a.all) {
+        const Eigen::Vector3d& p = a.n.positions[size_t(v)];
+        const bool on_side = std::abs(std::hypot(p.x(), p.y()) - R) < 1e-9 && v < side_vertices;
+        side_kept += on_side && is_kept[size_t(v)];
+        // Inside the fin's large faces (y = ±0.01), away from its rim.
+        const bool fin_face = std::abs(std::abs(p.y()) - 0.01) < 1e-9 && std::abs(p.x() - (R + 0.3)) < 0.25 &&
+                              std::abs(p.z() - 1.0) < 0.55;
+        fin_face_vertices += fin_face;
+        fin_face_kept += fin_face && is_kept[size_t(v)];
+    }
+    EXPECT_EQ(side_kept, int(side_vertices));
+    EXPECT_GT(fin_face_vertices, 50);
+    EXPECT_EQ(fin_face_kept, 0);
+    EXPECT_TRUE(std::is_sorted(kept.begin(), kept.end()));
+}
+
+TEST(ContinuousFamilies, TheLeanOfAPatchFromAnAxisIsTheMeanSineOfItsNormals) {
+    // Oracles: a cylinder's side about z leans 1 from z; a box's two faces normal to z lean
+    // 0; a sphere leans π/4 from any axis (the area-weighted mean of sin θ, ∫ sin²θ dθ over
+    // ∫ sin θ dθ on [0, π]).
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+    Analysed side;
+    analyse(cylinder(0.5, 2.0, 96, 40), side);
+    EXPECT_NEAR(mean_lean_from(side.n, side.all, z), 1.0, 1e-9);
+
+    Analysed slab;
+    analyse(box(1.0, 0.8, 0.1, 10), slab);
+    std::vector<int> top_and_bottom;
+    for (int v : slab.all)
+        if (std::abs(std::abs(slab.n.positions[size_t(v)].z()) - 0.1) < 1e-9) top_and_bottom.push_back(v);
+    EXPECT_NEAR(mean_lean_from(slab.n, top_and_bottom, z), 0.0, 1e-9);
+    EXPECT_GT(mean_lean_from(slab.n, slab.all, z), 0.05);  // with its rim
+
+    Analysed ball;
+    analyse(sphere(1.0, 4), ball);
+    EXPECT_NEAR(mean_lean_from(ball.n, ball.all, z), M_PI / 4, 0.01);
+    EXPECT_NEAR(mean_lean_from(ball.n, ball.all, Eigen::Vector3d(1, 2, 2) / 3), M_PI / 4, 0.01);
+}
