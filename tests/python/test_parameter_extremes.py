@@ -14,6 +14,9 @@ import pytest
 
 from conftest import FILTER, LIGHT_RUN, assert_mesh_unchanged, make_meshset, mesh_snapshot, mirror_symmetric_mesh
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import scenes  # noqa: E402
+
 # Lighter than the defaults, so that the sweep stays quick; each case overrides one of them.
 RUN = LIGHT_RUN
 MIRROR_X = np.diag([-1.0, 1, 1])
@@ -136,9 +139,6 @@ def test_max_symmetries_bounds_the_discrete_symmetries_and_families_take_none_of
     hub's surface of revolution, its two flat ends).  `limit` discrete symmetries are
     reported, the largest patches first, whatever families are found beside them (a family
     is one report for a continuum of symmetries), and at most `limit` families."""
-    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    import scenes
-
     scene = scenes.make_scene("wingnut", 0)
     ms = scene.meshset()
     result = getattr(ms, FILTER)(**{**scene.filter_params, "max_symmetries": limit})
