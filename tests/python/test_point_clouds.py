@@ -38,6 +38,17 @@ def cloud_of(scene, noise=0.0, normals=False, seed=0):
     return ms
 
 
+def scored_cloud(name, noise=0.0):
+    """The filter's defaults (plus the scene's own parameters) on the scene as a cloud
+    without normals: its output, the collected result, and metrics.accuracy's scores of it
+    (as the accuracy benchmark scores a mesh)."""
+    scene = scenes.make_scene(name, 0)
+    ms = cloud_of(scene, noise)
+    raw = ms.compute_partial_symmetries(create_patch_layers=True, **scene.filter_params)
+    result = metrics.collect(ms, raw, 0)
+    return raw, result, metrics.accuracy(scene, result)
+
+
 # The scenes whose mesh gives every planted relation (README, accuracy table); as clouds:
 # without and with noise of 0.1 % of the diagonal (the noisy scenes carry their own noise).
 CASES = [("mirrored", 0.0, False), ("mirrored", 0.001, False), ("row", 0.001, False),
@@ -73,10 +84,7 @@ def test_a_clean_cloud_of_a_surface_of_revolution_gives_its_family_and_nothing_f
     # 14 mirrors and 3 turns about the axis were reported one by one (members of the hub's
     # family, which the mesh leaves out).  Scored as the accuracy benchmark scores a mesh
     # (planted relations, families and maps the oracle confirms).
-    scene = scenes.make_scene(name, 0)
-    ms = cloud_of(scene)
-    raw = ms.compute_partial_symmetries(create_patch_layers=True, **scene.filter_params)
-    scored = metrics.accuracy(scene, metrics.collect(ms, raw, 0))
+    _, _, scored = scored_cloud(name)
     assert scored["found"] == scored["required"], scored["reports"]
     assert scored["counts"]["false"] == 0, scored["reports"]
     assert scored["counts"]["member"] == 0, scored["reports"]
@@ -87,11 +95,7 @@ def test_a_noisy_cloud_of_the_wingnut_gives_its_hubs_family_not_its_mirrors(requ
     # verified (60 degrees apart), and the points both map held pieces of the blades: no
     # family slid there, and the two mirrors were reported as relations of their own
     # (members of the hub's family).  Scored as above.
-    scene = scenes.make_scene("wingnut", 0)
-    ms = cloud_of(scene, 0.001)
-    raw = ms.compute_partial_symmetries(create_patch_layers=True, **scene.filter_params)
-    result = metrics.collect(ms, raw, 0)
-    scored = metrics.accuracy(scene, result)
+    _, result, scored = scored_cloud("wingnut", 0.001)
     assert scored["found"] == scored["required"], scored["reports"]
     assert scored["counts"]["false"] == 0, scored["reports"]
     assert scored["counts"]["member"] == 0, scored["reports"]
@@ -109,10 +113,7 @@ NOISY_CLOUDS_AS_MESHES = ["holes", "torus_pair", "thin_plate", "cylinder"]
 def test_a_noisy_cloud_gives_every_required_relation_and_family_and_nothing_false(requires_pipeline, name):
     # Noise of 0.1 % of the diagonal, no normals; scored as the accuracy benchmark scores a
     # mesh (planted relations, families and maps the oracle confirms on the clean surface).
-    scene = scenes.make_scene(name, 0)
-    ms = cloud_of(scene, 0.001)
-    raw = ms.compute_partial_symmetries(create_patch_layers=True, **scene.filter_params)
-    scored = metrics.accuracy(scene, metrics.collect(ms, raw, 0))
+    raw, _, scored = scored_cloud(name, 0.001)
     assert raw["point_cloud"] and raw["normals_estimated"]
     assert scored["found"] == scored["required"] > 0, scored["reports"]
     assert scored["counts"]["false"] == 0, scored["reports"]
