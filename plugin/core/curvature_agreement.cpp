@@ -7,9 +7,13 @@
 
 namespace symmetry {
 
-bool CurvatureAgreement::passes(const CurvatureAgreementOptions& options, double area_fraction) const {
+bool CurvatureAgreement::passes(const CurvatureAgreementOptions& options, double area_fraction,
+                                double smoothed_noise_in_spacings) const {
     if (tested == 0) return false;
     if (std::max(roughness_source, roughness_image) > options.max_roughness_in_edges) return true;
+    if (smoothed_noise_in_spacings > options.max_roughness_in_edges &&
+        area_fraction >= options.min_area_excused_by_cloud_noise)
+        return true;
     const double repeatability = double(std::min(beside_source, beside_image)) / tested;
     if (repeatability < options.min_repeatability) return true;
     const double largeness = std::min(1.0, area_fraction / 0.5);

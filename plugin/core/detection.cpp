@@ -56,6 +56,9 @@ struct Model {
     double diagonal = 0, total_area = 0;
     double radius = 0;  // the curvature ball's radius r (§2), absolute units
     double noise = 0;   // estimated noise (denoising.h), absolute units
+    // A presmoothed cloud's noise before smoothing, in point spacings (0 otherwise): what its
+    // curvature agreement can no longer see (CurvatureAgreementOptions::min_area_excused_by_cloud_noise).
+    double smoothed_noise_in_spacings = 0;
     DebrisRule debris;  // which connected components are specks (region_growing.h)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     // A point cloud: the points the stages see (a large cloud's working subset, presmoothed
@@ -219,6 +222,7 @@ void prepare_cloud_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& N, c
         // The input's points under the normals of their fits: the raw normals are as noisy as the points.
         if (measured_here) model.measured_on.normals = model.cloud->normals();
         model.cloud_presmoothed = true;
+        model.smoothed_noise_in_spacings = noise.noise_in_edges();
         result.smoothing_radius = radius / model.diagonal;
     }
 }
@@ -1094,7 +1098,7 @@ private:
             curvature_agreement(mesh_, surface_, curvature_, *worker.workspace, *worker.roughness, *worker.neighbours, votes_.P,
                                 s.source_vertices, s.transform, model_.radius, options_.signature_tolerance,
                                 vo_.tolerance, options_.agreement);
-        a.agrees = agreement.passes(options_.agreement, s.source_area / model_.total_area);
+        a.agrees = agreement.passes(options_.agreement, s.source_area / model_.total_area, model_.smoothed_noise_in_spacings);
         if (!a.agrees) return a;
         const std::vector<int> both = sorted_union(s.source_vertices, s.target_vertices);
         a.family = slippable_family(mesh_, both, vo_.tolerance, co_);
