@@ -83,6 +83,8 @@ py::dict work_dict(const DetectionResult& r) {
     w["point_cloud"] = r.point_cloud;
     w["normals_estimated"] = r.normals_estimated;
     w["flipped_faces"] = r.flipped_faces;
+    w["repeated_faces"] = r.repeated_faces;
+    w["back_faces"] = r.back_faces;
     w["noise"] = r.noise;
     w["smoothing_radius"] = r.smoothing_radius;
     w["curvature_radius_used"] = r.curvature_radius;

@@ -48,7 +48,7 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 // deviation from perfect symmetry is measured on the input itself.
 struct Model {
     Mesh input;
-    std::unique_ptr<Mesh> working;     // the simplified copy, for a large input
+    std::unique_ptr<Mesh> working;     // the simplified copy of a large input, or the refined one of a coarse input
     std::vector<int> working_vertex;   // per input vertex, the nearest vertex of `working`
     std::unique_ptr<Mesh> smoothed;
     std::vector<int> vertex_of_input;  // row in V of every input vertex
@@ -79,26 +79,47 @@ struct Model {
     bool presmoothed() const { return smoothed || cloud_presmoothed; }
 };
 
+// The longest edge the working copy of a coarse mesh may keep, or 0 to analyse the mesh as it
+// is.  On a coarse curved surface (a decimated scan, a character) a ball grown to hold a few
+// edges averages the facets, as it should; but where the ball would have to grow several
+// times over, the edges are those of a CAD export's long thin triangles over flat faces, and
+// a ball their size spans whole parts until every sample is flat or umbilic.  There the
+// facets are the surface itself, so splitting them loses nothing.
+double edge_to_refine_to(const Model& model, const DetectionOptions& options) {
+    if (options.max_radius_growth <= 0) return 0;
+    const double edge = options.curvature_radius * model.diagonal / options.min_radius_in_edges;
+    const double median = median_edge_length(mesh_neighbourhoods(model.input), model.debris);
+    return median > options.max_radius_growth * edge ? edge : 0;
+}
+
 void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,
                    const std::function<void(int, const char*)>& report, Model& model, DetectionResult& result) {
     build_mesh(V, F, model.input, model.vertex_of_input, &model.repairs);
     result.welded_vertices = model.repairs.welded_vertices;
     result.flipped_faces = model.repairs.flipped_faces;
+    result.repeated_faces = model.repairs.repeated_faces;
+    result.back_faces = model.repairs.back_faces;
     result.orientable = model.repairs.orientable;
     model.diagonal = model.input.bbox.Diag();
     model.center = Eigen::Vector3d(model.input.bbox.Center()[0], model.input.bbox.Center()[1], model.input.bbox.Center()[2]);
     model.total_area = surface_area(model.input);
+    // A speck is smaller than the great disc of the ball curvature_radius asks for.
+    const double asked_radius = options.curvature_radius * model.diagonal;
+    model.debris = {options.debris_area_share, M_PI * asked_radius * asked_radius};
     const int limit = options.working.max_vertices;
     if (limit > 0 && model.input.vn > limit) {
         report(0, "Simplifying the mesh to the working resolution");
         model.working = simplified_copy(model.input, limit, options.working);
+    } else if (const double edge = edge_to_refine_to(model, options); edge > 0) {
+        report(0, "Refining the coarse mesh for the curvature ball");
+        model.working = refined_copy_within(model.input, edge, options.working);
+        result.working_refined = model.working != nullptr;
+    }
+    if (model.working) {
         model.working_vertex = nearest_vertices(model.input, *model.working);
         result.working_vertices = model.working->vn;
     }
     const MeshNeighbourhoods neighbourhoods = mesh_neighbourhoods(model.resolved());
-    // A speck is smaller than the great disc of the ball curvature_radius asks for.
-    const double asked_radius = options.curvature_radius * model.diagonal;
-    model.debris = {options.debris_area_share, M_PI * asked_radius * asked_radius};
     // The ball must hold a few edges, or on a coarse mesh it sees one facet's flatness
     // or a single edge's bend, and a copy tessellated otherwise gets other curvatures.
     model.radius = std::max(asked_radius, options.min_radius_in_edges * median_edge_length(neighbourhoods, model.debris));
@@ -1759,8 +1780,11 @@ DetectionResult detect_on_model(const Model& model, Eigen::Index rows, const Det
     std::vector<VerifiedSymmetry> reported;
     std::vector<int> supports;
     std::vector<const ContinuousFamily*> family_of;
+    // A simplified copy smooths relief away, so its patches are trimmed to what maps on the
+    // input; a refined copy is the input's own surface, verified more finely than the
+    // input's few vertices could: its patches and areas stand.
     const std::vector<double> input_vertex_area =
-        model.working && !model.cloud ? vertex_areas_of(model.input) : std::vector<double>();
+        model.working && !model.cloud && !result.working_refined ? vertex_areas_of(model.input) : std::vector<double>();
     for (auto& f : findings.discrete) {
         if (input_surface) measure_on_input(model, *input_surface, tolerance, f.symmetry);
         if (!input_vertex_area.empty() &&

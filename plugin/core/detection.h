@@ -47,6 +47,10 @@ struct DetectionOptions {
     double curvature_radius = 0.01;     ///< r of the curvature ball (§2), fraction of the diagonal
     /// r is at least this many median edge lengths, whatever curvature_radius says.
     double min_radius_in_edges = 1.5;
+    /// A mesh so coarse that r would grow past this many times curvature_radius to hold
+    /// min_radius_in_edges of its edges (a CAD export's long thin triangles) is analysed on a
+    /// copy whose long edges are split (working_mesh.h refined_copy) instead; 0: never.
+    double max_radius_growth = 2.0;
     /// Components that together hold at most this share of the area, smallest first, each
     /// smaller than the great disc of the ball curvature_radius asks for, are debris
     /// (scanner specks, stray triangles; DebrisRule in region_growing.h): their edges do not
@@ -174,10 +178,13 @@ struct DetectionResult {
     int samples = 0, pruned_samples = 0, pairs = 0, transformation_points = 0, clusters = 0;
     int verified_candidates = 0;   ///< clusters that went through region growing
     int skipped_members = 0;       ///< clusters skipped as members of a continuous family found before
-    int working_vertices = 0;      ///< vertices of the simplified copy analysed; 0 when the input itself was
+    int working_vertices = 0;      ///< vertices of the simplified or refined copy analysed; 0 when the input itself was
+    bool working_refined = false;  ///< that copy is the input refined (a coarse mesh), not simplified
     bool point_cloud = false;      ///< the input was a point cloud (detect_partial_symmetries_in_point_cloud)
     bool normals_estimated = false;  ///< ...whose normals were estimated, as it gave none
-    int welded_vertices = 0;       ///< vertices welded onto another at the same position (a triangle soup)
+    int welded_vertices = 0;       ///< vertices welded onto another at the same position (a soup's, a repeated face's)
+    int repeated_faces = 0;        ///< faces dropped as a copy of another over the same three positions
+    int back_faces = 0;            ///< faces dropped as the other side of a double-sided surface
     int flipped_faces = 0;         ///< faces turned to orient the surface coherently and outward
     bool orientable = true;        ///< false: some component could not be oriented, and was analysed as it came
     double noise = 0;              ///< estimated vertex noise, fraction of the diagonal

@@ -39,6 +39,71 @@ std::vector<int> rows_at_same_position(const Eigen::MatrixX3d& V) {
 
 namespace {
 
+// The lowest row a row is welded with, halving paths as it goes.
+int root(std::vector<int>& parent, int r) {
+    while (parent[size_t(r)] != r) {
+        parent[size_t(r)] = parent[size_t(parent[size_t(r)])];
+        r = parent[size_t(r)];
+    }
+    return r;
+}
+
+void weld(std::vector<int>& parent, int a, int b) {
+    a = root(parent, a);
+    b = root(parent, b);
+    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+}
+
+// Whether the corners a0 a1 a2 and b0 b1 b2 (the same three, in some order) run the same
+// cyclic way round.
+bool same_cycle(const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    for (int s = 0; s < 3; ++s)
+        if (a[0] == b[size_t(s)] && a[1] == b[size_t((s + 1) % 3)]) return true;
+    return false;
+}
+
+}  // namespace
+
+RepeatedFaces drop_repeated_faces(const Eigen::MatrixX3i& F, const std::vector<int>& faces,
+                                  const std::vector<int>& position, std::vector<int>& row_at_same_position) {
+    auto positions_of = [&](int f) {
+        return std::array<int, 3>{position[size_t(F(f, 0))], position[size_t(F(f, 1))], position[size_t(F(f, 2))]};
+    };
+    auto key_of = [&](int f) {
+        std::array<int, 3> key = positions_of(f);
+        std::sort(key.begin(), key.end());
+        return key;
+    };
+    // Faces in order of their three positions, then of their rows: the first of a run is kept.
+    std::vector<std::pair<std::array<int, 3>, int>> keyed;
+    keyed.reserve(faces.size());
+    for (int f : faces) keyed.emplace_back(key_of(f), f);
+    std::sort(keyed.begin(), keyed.end());
+
+    RepeatedFaces out;
+    std::vector<char> dropped(size_t(F.rows()), 0);
+    std::vector<int>& parent = row_at_same_position;
+    for (size_t i = 1, first = 0; i < keyed.size(); ++i) {
+        if (keyed[i].first != keyed[first].first) {
+            first = i;
+            continue;
+        }
+        const int kept = keyed[first].second, copy = keyed[i].second;
+        dropped[size_t(copy)] = 1;
+        const std::array<int, 3> at_kept = positions_of(kept), at_copy = positions_of(copy);
+        ++(same_cycle(at_kept, at_copy) ? out.repeated : out.back);
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k)
+                if (at_copy[size_t(j)] == at_kept[size_t(k)]) weld(parent, F(copy, j), F(kept, k));
+    }
+    for (size_t r = 0; r < parent.size(); ++r) parent[r] = root(parent, int(r));
+    for (int f : faces)
+        if (!dropped[size_t(f)]) out.kept.push_back(f);
+    return out;
+}
+
+namespace {
+
 using FaceCorners = std::array<const Vertex*, 3>;
 
 FaceCorners corners(const Face& f) { return {f.cV(0), f.cV(1), f.cV(2)}; }

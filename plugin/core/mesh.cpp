@@ -32,8 +32,9 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
         throw InputError("The mesh has faces that refer to vertices that do not exist.");
 
     MeshRepairs done;
+    const std::vector<int> position = rows_at_same_position(V);
     if (is_triangle_soup(F, V.rows())) {
-        done.row_at_same_position = rows_at_same_position(V);
+        done.row_at_same_position = position;
     } else {
         done.row_at_same_position.resize(size_t(V.rows()));
         std::iota(done.row_at_same_position.begin(), done.row_at_same_position.end(), 0);
@@ -55,12 +56,17 @@ void build_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Mesh& mesh
     }
     if (kept.empty())
         throw InputError("Every face of the mesh is degenerate (zero area); there is no surface to analyse.");
-
-    std::vector<int> new_index(V.rows(), -1);
     std::vector<char> referenced(V.rows(), 0);
     for (int f : kept)
+        for (int k = 0; k < 3; ++k) referenced[F(f, k)] = 1;
+    RepeatedFaces repeats = drop_repeated_faces(F, kept, position, done.row_at_same_position);
+    kept = std::move(repeats.kept);
+    done.repeated_faces = repeats.repeated;
+    done.back_faces = repeats.back;
+
+    std::vector<int> new_index(V.rows(), -1);
+    for (int f : kept)
         for (int k = 0; k < 3; ++k) {
-            referenced[F(f, k)] = 1;
             const int row = same[F(f, k)];
             if (new_index[row] < 0) {
                 new_index[row] = int(vertex_of_input.size());

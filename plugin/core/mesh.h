@@ -32,7 +32,9 @@ public:
 struct MeshRepairs {
     /// Per row of V: the row whose vertex stands for it (itself but for welded duplicates).
     std::vector<int> row_at_same_position;
-    int welded_vertices = 0;  ///< rows of a soup's faces welded onto another at the same position
+    int welded_vertices = 0;  ///< rows welded onto another at the same position (a soup's, a repeated face's)
+    int repeated_faces = 0;   ///< faces dropped as copies of another over the same positions, turned the same way
+    int back_faces = 0;       ///< faces dropped as the other side of a double-sided surface (turned the other way)
     int flipped_faces = 0;    ///< faces turned to orient each component coherently (and outward)
     bool orientable = true;   ///< false: a component could not be oriented and was left as it was
     /// Per face of the built mesh: its row of F (degenerate faces are dropped, so rows skip).
@@ -42,8 +44,9 @@ struct MeshRepairs {
 /// Builds the core mesh from vertex positions (#V by 3) and triangles (#F by 3
 /// indices into V), rejecting what the pipeline cannot handle with an InputError:
 /// no vertices, no faces (a point cloud), non-finite coordinates, indices out of
-/// range.  A triangle soup's vertices at the same position are welded and each
-/// component's faces are oriented coherently (input_repair.h; `repairs` says what was done).  Degenerate
+/// range.  A triangle soup's vertices at the same position are welded, repeated faces and
+/// the back sides of double-sided surfaces dropped, and each component's faces oriented
+/// coherently (input_repair.h; `repairs` says what was done).  Degenerate
 /// faces (repeated index or zero area) are dropped, as are vertices no face
 /// references, because neither carries surface; if nothing remains the mesh is
 /// rejected.  Face-face and vertex-face adjacency, normals and the bounding box are

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include <omp.h>
 #include <vcg/complex/algorithms/local_optimization.h>
@@ -275,6 +276,114 @@ std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, co
     std::vector<int> unused;
     build_mesh(V, F, *simplified, unused);
     return simplified;
+}
+
+namespace {
+
+using Corners = std::array<int, 3>;
+
+// The faces of one pass of midpoint splitting: a face with one edge split becomes two, with
+// two edges three (the quad left beside the corner cut off split along its shorter
+// diagonal), with three edges four.  `middle(a, b)` is the vertex on edge ab, or -1.
+template <class Middle>
+void split_face(const Corners& c, const std::vector<Eigen::Vector3d>& P, Middle middle, std::vector<Corners>& out) {
+    std::array<int, 3> m;
+    int splits = 0;
+    for (int k = 0; k < 3; ++k) splits += (m[size_t(k)] = middle(c[size_t(k)], c[size_t((k + 1) % 3)])) >= 0;
+    if (splits == 0) {
+        out.push_back(c);
+        return;
+    }
+    if (splits == 3) {
+        out.push_back({c[0], m[0], m[2]});
+        out.push_back({m[0], c[1], m[1]});
+        out.push_back({m[2], m[1], c[2]});
+        out.push_back({m[0], m[1], m[2]});
+        return;
+    }
+    // Turned so that edge 0 (c0 c1) is split and, with two splits, edge 1 (c1 c2) too.
+    int s = 0;
+    while (!(m[size_t(s)] >= 0 && (splits == 1 || m[size_t((s + 1) % 3)] >= 0))) ++s;
+    const int a = c[size_t(s)], b = c[size_t((s + 1) % 3)], d = c[size_t((s + 2) % 3)];
+    const int ab = m[size_t(s)], bd = m[size_t((s + 1) % 3)];
+    if (splits == 1) {
+        out.push_back({a, ab, d});
+        out.push_back({ab, b, d});
+        return;
+    }
+    out.push_back({ab, b, bd});
+    if ((P[size_t(a)] - P[size_t(bd)]).squaredNorm() <= (P[size_t(ab)] - P[size_t(d)]).squaredNorm()) {
+        out.push_back({a, ab, bd});
+        out.push_back({a, bd, d});
+    } else {
+        out.push_back({a, ab, d});
+        out.push_back({ab, bd, d});
+    }
+}
+
+}  // namespace
+
+std::unique_ptr<Mesh> refined_copy(const Mesh& input, double max_edge, int max_vertices) {
+    Eigen::MatrixX3d V;
+    Eigen::MatrixX3i F;
+    live_arrays(input, V, F);
+    std::vector<Eigen::Vector3d> P(size_t(V.rows()));
+    for (Eigen::Index i = 0; i < V.rows(); ++i) P[size_t(i)] = V.row(i).transpose();
+    std::vector<Corners> faces(size_t(F.rows()));
+    for (Eigen::Index f = 0; f < F.rows(); ++f) faces[size_t(f)] = {F(f, 0), F(f, 1), F(f, 2)};
+    const double max_squared = max_edge * max_edge;
+    // By hand rather than vcglib's RefineE, which asserts manifold edges: CAD exports have
+    // non-manifold ones.  Each pass halves every edge longer than max_edge, the same midpoint for every face on
+    // the edge (a non-manifold one too), so the copy stays conforming and its surface is the
+    // input's exactly: flat faces stay flat, creases sharp.
+    for (;;) {
+        std::unordered_map<uint64_t, int> middle_of;
+        auto key = [](int a, int b) { return (uint64_t(std::min(a, b)) << 32) | uint64_t(std::max(a, b)); };
+        for (const Corners& c : faces)
+            for (int k = 0; k < 3; ++k) {
+                const int a = c[size_t(k)], b = c[size_t((k + 1) % 3)];
+                if ((P[size_t(a)] - P[size_t(b)]).squaredNorm() <= max_squared) continue;
+                if (middle_of.emplace(key(a, b), int(P.size())).second) P.push_back(0.5 * (P[size_t(a)] + P[size_t(b)]));
+            }
+        if (middle_of.empty()) break;
+        if (max_vertices > 0 && P.size() > size_t(max_vertices)) return nullptr;
+        auto middle = [&](int a, int b) {
+            const auto it = middle_of.find(key(a, b));
+            return it == middle_of.end() ? -1 : it->second;
+        };
+        std::vector<Corners> next;
+        next.reserve(2 * faces.size());
+        for (const Corners& c : faces) split_face(c, P, middle, next);
+        faces.swap(next);
+    }
+    V.resize(Eigen::Index(P.size()), 3);
+    for (size_t i = 0; i < P.size(); ++i) V.row(Eigen::Index(i)) = P[i].transpose();
+    F.resize(Eigen::Index(faces.size()), 3);
+    for (size_t f = 0; f < faces.size(); ++f)
+        for (int k = 0; k < 3; ++k) F(Eigen::Index(f), k) = faces[f][size_t(k)];
+    auto refined = std::make_unique<Mesh>();
+    std::vector<int> unused;
+    build_mesh(V, F, *refined, unused);
+    return refined;
+}
+
+std::unique_ptr<Mesh> refined_copy_within(const Mesh& input, double max_edge, const WorkingMeshOptions& options) {
+    int budget = options.max_refined_vertices;
+    if (options.max_vertices > 0) budget = std::min(budget, options.max_vertices);
+    // A pass past the hard limit is abandoned, so that one far vertex or sliver, whose edges
+    // would be halved many times over, costs neither the time nor the memory.
+    const int hard_limit = 4 * budget;
+    // Triangles whose edges are at most h hold at most sqrt(3)/4 h^2 each, and a surface has
+    // about half as many vertices as faces: an edge below this would surely exceed the budget.
+    max_edge = std::max(max_edge, std::sqrt(2 * surface_area(input) / (std::sqrt(3.0) * budget)));
+    for (int attempt = 0; attempt < options.refinement_attempts; ++attempt) {
+        std::unique_ptr<Mesh> copy = refined_copy(input, max_edge, hard_limit);
+        if (copy && (copy->vn <= budget || attempt + 1 == options.refinement_attempts)) return copy;
+        // The vertices of a refined surface grow as 1 / max_edge^2, but in the steps of
+        // halving edges: just past one, a small growth would land on the same copy again.
+        max_edge *= copy ? std::max(std::sqrt(2.0), 1.05 * std::sqrt(double(copy->vn) / budget)) : 2.0;
+    }
+    return nullptr;
 }
 
 std::vector<int> poisson_disk_subset(const Mesh& cloud, int target_points, double area, unsigned seed,

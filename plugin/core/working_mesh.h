@@ -36,6 +36,12 @@ struct WorkingMeshOptions {
     int min_faces_to_halve = 100000;
     /// The strip along the cut that the last pass simplifies, in edges either side of it.
     int seam_rings = 3;
+    /// A refined copy (refined_copy_within) holds about this many vertices at most: where
+    /// splitting down to the edge asked for would give more, the longest edge kept grows (and
+    /// the curvature ball with the median edge).  Capped by max_vertices when that is set.
+    int max_refined_vertices = 30000;
+    /// ...tried this many times, the edge grown each time by the square root of the excess.
+    int refinement_attempts = 4;
     /// A point cloud's subset: the Poisson-disk radius is corrected this many times at most...
     int poisson_attempts = 6;
     /// ...until the subset holds max_vertices points within this fraction.
@@ -49,6 +55,18 @@ struct WorkingMeshOptions {
 /// plane are simplified at once, one per core, and then the strip along the cut
 /// (options.seam_rings): the copy is the same at any thread count.
 std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, const WorkingMeshOptions& options);
+
+/// A copy of `input` whose edges longer than `max_edge` are split at their midpoints until
+/// none is, with the same setup as build_mesh gives: a coarse tessellation (the long thin
+/// triangles CAD exports lay over flat faces) made fine enough for the curvature ball, its
+/// surface unchanged.  Every input vertex is a vertex of the copy.  nullptr if a pass would
+/// leave more than `max_vertices` (0: no limit).
+std::unique_ptr<Mesh> refined_copy(const Mesh& input, double max_edge, int max_vertices = 0);
+
+/// refined_copy with the longest edge grown until the copy holds at most about
+/// options.max_refined_vertices (and max_vertices, if set), within refinement_attempts;
+/// nullptr if none came within four times that.
+std::unique_ptr<Mesh> refined_copy_within(const Mesh& input, double max_edge, const WorkingMeshOptions& options);
 
 /// The indices, increasing, of about `target_points` of the vertices of `cloud` (a mesh of
 /// points alone, covering `area`) spread evenly over it by Poisson-disk pruning (vcglib's),

@@ -95,6 +95,8 @@ std::map<std::string, QVariant> outputValues(const symmetry::DetectionResult& r,
 	out["normals_estimated"] = QVariant(r.normals_estimated);
 	out["welded_vertices"] = QVariant(r.welded_vertices);
 	out["flipped_faces"] = QVariant(r.flipped_faces);
+	out["repeated_faces"] = QVariant(r.repeated_faces);
+	out["back_faces"] = QVariant(r.back_faces);
 	out["noise"] = QVariant(r.noise);
 	out["smoothing_radius"] = QVariant(r.smoothing_radius);
 	out["curvature_radius_used"] = QVariant(r.curvature_radius);

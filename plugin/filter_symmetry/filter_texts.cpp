@@ -46,9 +46,11 @@ QString detectionReturnedValues()
 	       "seconds_clustering, seconds_verification; work counts samples, pruned_samples, pairs, clusters, "
 	       "verified_clusters; and what the filter chose from the mesh: working_vertices (vertices of the "
 	       "simplified copy analysed, or points of a cloud's subset; 0 when the input itself was), point_cloud and normals_estimated (the "
-	       "input was a point cloud, whose normals were estimated), welded_vertices (vertices of a "
-	       "triangle soup at the same position as another, welded on the filter's copy), flipped_faces (faces "
-	       "turned on that copy to orient each part coherently and outward), noise (estimated, fraction of the "
+	       "input was a point cloud, whose normals were estimated), welded_vertices (vertices at the same "
+	       "position as another, of a triangle soup or of a repeated face, welded on the filter's copy), "
+	       "repeated_faces and back_faces (faces dropped on that copy as a repeat of another face over the same "
+	       "three positions, the same way round or the other: the back of a double-sided surface), flipped_faces "
+	       "(faces turned on that copy to orient each part coherently and outward), noise (estimated, fraction of the "
 	       "diagonal), smoothing_radius (presmoothing of a noisy mesh, 0 if none), curvature_radius_used and "
 	       "pair_sample_count_used.<br><br>";
 }

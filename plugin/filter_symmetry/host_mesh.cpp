@@ -502,10 +502,17 @@ QStringList detectionLog(const Detection& d)
 	}
 	if (result.welded_vertices > 0)
 		lines << QString::asprintf(
-			"The mesh is a triangle soup (most triangles have vertices of their own): the filter welded %d "
-			"vertices lying at the same position as another on its own copy, the mesh is unchanged (Cleaning "
+			"%d vertices lie at the same position as another in a triangle soup or a repeated face: the filter "
+			"welded them on its own copy, the mesh is unchanged (Cleaning "
 			"and Repairing > Remove Duplicate Vertices welds them in the mesh itself).",
 			result.welded_vertices);
+	if (result.repeated_faces + result.back_faces > 0)
+		lines << QString::asprintf(
+			"%d faces repeat another face over the same three vertex positions, %d of them the other way round "
+			"(the back of a double-sided surface): the filter kept one face of each, on its own copy, the mesh is "
+			"unchanged (Cleaning and Repairing > Remove Duplicate Vertices, then Remove Duplicate Faces, does this to "
+			"the mesh itself).",
+			result.repeated_faces + result.back_faces, result.back_faces);
 	if (result.flipped_faces > 0)
 		lines << QString::asprintf(
 			"%d faces were turned against the others around them or inward: the filter oriented each part "
@@ -529,6 +536,12 @@ QStringList detectionLog(const Detection& d)
 			"analysed on %d of them spread evenly (a Poisson-disk subset, as Sampling > Point Cloud Simplification "
 			"makes), and the patches and deviations are those of every point.",
 			int(host.V.rows()), options.working.max_vertices, result.working_vertices);
+	else if (result.working_refined)
+		lines << QString::asprintf(
+			"The mesh is coarse for the curvature ball (long edges, as CAD exports lay long thin triangles over "
+			"flat faces): it was analysed on a copy whose long edges were split at their midpoints, %d vertices "
+			"on the same surface, and the patches and deviations are those of the mesh itself.",
+			result.working_vertices);
 	else if (result.working_vertices > 0)
 		lines << QString::asprintf(
 			"The mesh has %d vertices, more than the working resolution (max_working_vertices = %d): it was "
@@ -551,6 +564,11 @@ QStringList detectionLog(const Detection& d)
 				"votes are those of the full group's pairs that are of its kind.",
 				result.rigid_pair_sample_count);
 	}
+	if (result.symmetries.empty())
+		lines << QString::asprintf(
+			"No symmetry found: none of the %d clusters verified maps min_patch_area (%.3g%% of the area) or more "
+			"of the surface onto itself within verification_tolerance (%.3g%% of the diagonal).",
+			result.verified_candidates, 100 * options.min_patch_area, 100 * options.verification_tolerance);
 	lines << QString::asprintf(
 		"%d symmetries (%d generators) from %d samples (%d after pruning), %d pairs, %d clusters; "
 		"%.2f s signatures, %.2f s pairing, %.2f s clustering, %.2f s verification",

@@ -74,7 +74,9 @@ void toRichParameterList(const symmetry::DetectionOptions& o, double diagonal, s
 		"back to every vertex of the mesh, and the deviation is measured on the mesh itself. The time then "
 		"grows with the symmetries found, not with the tessellation. A point cloud with more points is "
 		"analysed on about this many of them, spread evenly (as Point Cloud Simplification picks them). "
-		"0 analyses every mesh at its own resolution."));
+		"A mesh far coarser than the curvature ball (long thin triangles, as CAD exports have) is analysed on a "
+		"copy of the same surface with its long edges split, within this many vertices too. 0 analyses every "
+		"mesh at its own resolution, coarse ones refined."));
 	parameters.addParam(RichInt(
 		"pair_sample_count", o.pair_sample_count, "Paired samples",
 		"Number of samples (the paper's random subset P') that are paired against all the others in "

@@ -56,8 +56,10 @@ PARAMETERS = (
     Parameter("max_working_vertices", 50000, "vertices",
               "a mesh with more vertices is analysed on a copy simplified to about this many by quadric "
               "edge collapse; patches and deviations are carried back to every vertex and measured on the "
-              "mesh itself (a point cloud: on about this many of its points, spread evenly); 0 always "
-              "analyses the input itself, else at least 1000"),
+              "mesh itself (a point cloud: on about this many of its points, spread evenly); a mesh far "
+              "coarser than the curvature ball is analysed on a copy with its long edges split, within "
+              "this many vertices too; 0 always analyses the input itself (refined if coarse), else at "
+              "least 1000"),
     Parameter("pair_sample_count", 0, "samples",
               "the random subset P' of the samples paired against all of them (§2.2), 0 to 5,000,000; 0 "
               "chooses it by the Appendix's Equation 1 so that a patch of min_patch_area is found with "

@@ -108,7 +108,7 @@ class SymmetryResult:
     - ``timings``: seconds of each stage (the filter's seconds_* values);
     - ``work``: every other number the filter returns: samples, pruned_samples, pairs,
       clusters, verified_clusters, generator_count, working_vertices, point_cloud,
-      normals_estimated, welded_vertices, flipped_faces, noise, smoothing_radius,
+      normals_estimated, welded_vertices, repeated_faces, back_faces, flipped_faces, noise, smoothing_radius,
       curvature_radius_used, pair_sample_count_used;
     - ``parameters``: every parameter of detect as it was run (defaults included, lengths
       as fractions of the diagonal, min_patch_area as a fraction of the area);

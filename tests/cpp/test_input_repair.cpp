@@ -66,6 +66,18 @@ int border_edges(const Mesh& mesh) {
     return border;
 }
 
+// The shape's faces below z = 0 on a copy of the vertices appended after the input's: two
+// halves with vertices of their own along the equator.
+Shape split_at_equator(const Shape& s) {
+    Shape split = s;
+    const Eigen::Index n = s.V.rows();
+    split.V.conservativeResize(2 * n, 3);
+    split.V.bottomRows(n) = s.V;
+    for (Eigen::Index f = 0; f < split.F.rows(); ++f)
+        if (s.V(s.F(f, 0), 2) + s.V(s.F(f, 1), 2) + s.V(s.F(f, 2), 2) < 0) split.F.row(f).array() += int(n);
+    return split;
+}
+
 TEST(InputRepair, RowsAtSamePositionPointToTheFirst) {
     Eigen::MatrixX3d V(5, 3);
     V << 1, 2, 3, 0, 0, 0, 1, 2, 3, -0.0, 0, 0, 1, 2, 3.0000001;
@@ -93,13 +105,7 @@ TEST(InputRepair, AMeshSplitAlongSomeEdgesIsNotWelded) {
     // Two halves of a sphere, each with vertices of its own along the equator (as a
     // flat-shaded or textured export splits them): parts, not a soup.
     const Shape sphere = testing::sphere(1.0, 2);
-    Shape split = sphere;
-    const Eigen::Index n = sphere.V.rows();
-    split.V.conservativeResize(2 * n, 3);
-    split.V.bottomRows(n) = sphere.V;
-    for (Eigen::Index f = 0; f < split.F.rows(); ++f)
-        if (sphere.V(sphere.F(f, 0), 2) + sphere.V(sphere.F(f, 1), 2) + sphere.V(sphere.F(f, 2), 2) < 0)
-            split.F.row(f).array() += int(n);
+    const Shape split = split_at_equator(sphere);
     EXPECT_FALSE(is_triangle_soup(split.F, split.V.rows()));
     EXPECT_TRUE(is_triangle_soup(soup(sphere).F, soup(sphere).V.rows()));
     Mesh mesh;
@@ -186,6 +192,101 @@ TEST(InputRepair, AMoebiusBandIsLeftAsItCame) {
     EXPECT_FALSE(repairs.orientable);
     EXPECT_EQ(repairs.flipped_faces, 0);
     EXPECT_EQ(faces_as_rows(mesh, rows), F);
+}
+
+// Every face once more the other way round, on the same rows (`own_rows` false) or on a copy
+// of the vertices appended after the input's (true), as double-sided exports store them.
+Shape double_sided(const Shape& s, bool own_rows) {
+    Shape out = s;
+    const Eigen::Index n = s.V.rows(), m = s.F.rows();
+    if (own_rows) {
+        out.V.conservativeResize(2 * n, 3);
+        out.V.bottomRows(n) = s.V;
+    }
+    out.F.conservativeResize(2 * m, 3);
+    for (Eigen::Index f = 0; f < m; ++f)
+        out.F.row(m + f) << s.F(f, 0), s.F(f, 2), s.F(f, 1);
+    if (own_rows) out.F.bottomRows(m).array() += int(n);
+    return out;
+}
+
+// Rows f and m + f exchanged wherever `which` says: which of the two sides comes first.
+Eigen::MatrixX3i sides_exchanged(const Eigen::MatrixX3i& F, const std::vector<char>& which) {
+    Eigen::MatrixX3i out = F;
+    const Eigen::Index m = F.rows() / 2;
+    for (Eigen::Index f = 0; f < m; ++f)
+        if (which[size_t(f)]) {
+            out.row(f) = F.row(m + f);
+            out.row(m + f) = F.row(f);
+        }
+    return out;
+}
+
+TEST(InputRepair, ADoubleSidedSurfaceKeepsOneSideClosedAndOutward) {
+    const Shape sphere = testing::sphere(1.0, 2);
+    const Shape both = double_sided(sphere, false);
+    Mesh mesh;
+    std::vector<int> rows;
+    MeshRepairs repairs;
+    build_mesh(both.V, both.F, mesh, rows, &repairs);
+    EXPECT_EQ(mesh.fn, sphere.F.rows());
+    EXPECT_EQ(mesh.vn, sphere.V.rows());
+    EXPECT_EQ(repairs.back_faces, sphere.F.rows());
+    EXPECT_EQ(repairs.repeated_faces, 0);
+    EXPECT_EQ(repairs.welded_vertices, 0);
+    EXPECT_EQ(border_edges(mesh), 0);
+    EXPECT_EQ(inward_faces(mesh), 0);
+}
+
+TEST(InputRepair, ABackSideWithVerticesOfItsOwnIsWeldedWhereTheSidesAlternate) {
+    // The first copy of each triangle is, at random, the front or the back: the faces kept
+    // use the rows of both, and only welding them gives one closed surface again.
+    const Shape sphere = testing::sphere(1.0, 2);
+    const Shape both = double_sided(sphere, true);
+    const Eigen::MatrixX3i F = sides_exchanged(both.F, every_other_at_random(sphere.F.rows(), 5, 0.5));
+    Mesh mesh;
+    std::vector<int> rows;
+    MeshRepairs repairs;
+    build_mesh(both.V, F, mesh, rows, &repairs);
+    EXPECT_EQ(mesh.fn, sphere.F.rows());
+    EXPECT_EQ(mesh.vn, sphere.V.rows());
+    EXPECT_EQ(repairs.back_faces, sphere.F.rows());
+    EXPECT_EQ(repairs.welded_vertices, sphere.V.rows());  // each back row onto its front row
+    EXPECT_EQ(border_edges(mesh), 0);
+    EXPECT_EQ(inward_faces(mesh), 0);
+    for (Eigen::Index r = 0; r < both.V.rows(); ++r)
+        EXPECT_EQ(both.V.row(repairs.row_at_same_position[size_t(r)]), both.V.row(r));
+}
+
+TEST(InputRepair, AFaceRepeatedTheSameWayIsKeptOnce) {
+    const Shape box = testing::box(1, 2, 3, 2);
+    Shape twice = box;
+    twice.F.conservativeResize(2 * box.F.rows(), 3);
+    twice.F.bottomRows(box.F.rows()) = box.F;
+    Mesh mesh;
+    std::vector<int> rows;
+    MeshRepairs repairs;
+    build_mesh(twice.V, twice.F, mesh, rows, &repairs);
+    EXPECT_EQ(repairs.repeated_faces, box.F.rows());
+    EXPECT_EQ(repairs.back_faces, 0);
+    EXPECT_EQ(faces_as_rows(mesh, rows), box.F);
+}
+
+TEST(InputRepair, ADoubleSidedMeshSplitAlongSomeEdgesStaysSplitThere) {
+    // The two halves of a sphere with rows of their own along the equator, each side twice:
+    // the sides are joined, the halves are not (welding only what the repeats make one).
+    const Shape split = split_at_equator(testing::sphere(1.0, 2));
+    Mesh alone, doubled;
+    std::vector<int> rows_alone, rows_doubled;
+    MeshRepairs repairs;
+    build_mesh(split.V, split.F, alone, rows_alone, nullptr);
+    const Shape both = double_sided(split, true);
+    build_mesh(both.V, both.F, doubled, rows_doubled, &repairs);
+    EXPECT_EQ(repairs.back_faces, split.F.rows());
+    EXPECT_EQ(doubled.fn, alone.fn);
+    EXPECT_EQ(doubled.vn, alone.vn);
+    EXPECT_EQ(border_edges(doubled), border_edges(alone));
+    EXPECT_GT(border_edges(doubled), 0);
 }
 
 }  // namespace

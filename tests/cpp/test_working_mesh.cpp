@@ -41,6 +41,74 @@ TEST(WorkingMesh, SimplifiesToTheTargetAndKeepsTheShape) {
     }
 }
 
+// Faces per edge, each edge keyed by its two vertices.
+std::map<std::pair<const Vertex*, const Vertex*>, int> faces_at_edges(const Mesh& mesh) {
+    std::map<std::pair<const Vertex*, const Vertex*>, int> faces;
+    for (const Face& f : mesh.face)
+        for (int k = 0; k < 3; ++k) {
+            const Vertex* a = f.cV(k);
+            const Vertex* b = f.cV((k + 1) % 3);
+            ++faces[{std::min(a, b), std::max(a, b)}];
+        }
+    return faces;
+}
+
+TEST(WorkingMesh, ARefinedCopyIsTheSameSurfaceWithShortEdges) {
+    // A box as CAD exports it (twelve triangles, long thin ones on its long faces) and a
+    // coarse prism: refined, every edge is at most the length asked, the copy is closed (the
+    // midpoints are shared by the faces on each edge), every input vertex is in it, and its
+    // surface is the input's: the same area, every vertex on a face of the box.
+    const testing::Shape box = testing::box(2.0, 0.2, 0.1, 1);
+    const auto input = mesh_of(box);
+    const double max_edge = 0.05;
+    const auto copy = refined_copy(*input, max_edge);
+    EXPECT_EQ(copy->fn, 2 * copy->vn - 4);  // one closed genus-0 surface (Euler)
+    for (const auto& [edge, faces] : faces_at_edges(*copy)) {
+        EXPECT_EQ(faces, 2);
+        EXPECT_LE((edge.first->cP() - edge.second->cP()).Norm(), max_edge * (1 + 1e-12));
+    }
+    EXPECT_NEAR(surface_area(*copy), surface_area(*input), 1e-9 * surface_area(*input));
+    for (const auto& v : copy->vert) {
+        const vcg::Point3d p = v.cP();
+        const double out = std::max({std::abs(p[0]) - 2.0, std::abs(p[1]) - 0.2, std::abs(p[2]) - 0.1});
+        EXPECT_NEAR(out, 0.0, 1e-12);  // on the box's boundary
+    }
+    const std::vector<int> nearest = nearest_vertices(*input, *copy);
+    for (size_t i = 0; i < input->vert.size(); ++i)
+        EXPECT_EQ(copy->vert[size_t(nearest[i])].cP(), input->vert[i].cP());
+}
+
+TEST(WorkingMesh, ARefinedCopyStaysConformingAtNonManifoldEdges) {
+    // Three squares on one edge (a fin): every face on the edge gets its one midpoint.
+    Eigen::MatrixX3d V(8, 3);
+    V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, -1, 0, 1, -1, 0, 0, 0, 1, 1, 0, 1;
+    Eigen::MatrixX3i F(6, 3);
+    F << 0, 1, 3, 0, 3, 2, 1, 0, 4, 1, 4, 5, 0, 1, 7, 0, 7, 6;
+    Mesh input;
+    std::vector<int> rows;
+    build_mesh(V, F, input, rows);
+    const auto copy = refined_copy(input, 0.3);
+    int fin = 0;
+    for (const auto& [edge, faces] : faces_at_edges(*copy)) {
+        EXPECT_LE(faces, 3);
+        fin += faces == 3 && std::abs(edge.first->cP()[1]) < 1e-12 && std::abs(edge.second->cP()[1]) < 1e-12 &&
+               std::abs(edge.first->cP()[2]) < 1e-12 && std::abs(edge.second->cP()[2]) < 1e-12;
+    }
+    EXPECT_GE(fin, 4);  // the fin's edge of length 1 in pieces of at most 0.3, each on three faces
+    EXPECT_NEAR(surface_area(*copy), 3.0, 1e-9);
+}
+
+TEST(WorkingMesh, ARefinedCopyWithinABudgetGrowsItsEdges) {
+    const auto input = mesh_of(testing::box(1.0, 1.0, 1.0, 1));
+    WorkingMeshOptions options;
+    options.max_refined_vertices = 3000;
+    const auto unbounded = refined_copy(*input, 0.02);
+    ASSERT_GT(unbounded->vn, 3000);
+    const auto copy = refined_copy_within(*input, 0.02, options);
+    EXPECT_LE(copy->vn, 3000);
+    EXPECT_GT(copy->vn, 300);  // not coarser than it needs to be
+}
+
 TEST(WorkingMesh, TheCutBetweenTheHalvesIsClosedAndSimplified) {
     // The copy is simplified as two halves cut across the sphere, the cut held, then joined
     // and the strip along the cut simplified.  The cut must leave no border (every edge

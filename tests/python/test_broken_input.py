@@ -103,14 +103,61 @@ def test_a_copy_turned_inward_still_mirrors_the_other(requires_pipeline, bumpy):
     np.testing.assert_array_equal(ms.mesh(0).face_matrix(), Q)
 
 
+def test_a_double_sided_mesh_keeps_one_side_and_finds_the_mirror(requires_pipeline, bumpy):
+    """Every triangle once more the other way round on the same vertices, as shape
+    collections store double-sided surfaces: each edge has four faces and the two sides'
+    vertex normals cancel.  One side is kept on the filter's copy; the mesh is unchanged."""
+    V, F = bumpy
+    G = np.vstack([F, F[:, ::-1]])
+    ms, r = detect(V, G)
+    assert r["back_faces"] == len(F) and r["repeated_faces"] == 0
+    assert r["welded_vertices"] == 0
+    assert mirror_error(r, MIRROR_X) < 0.2
+    np.testing.assert_array_equal(ms.mesh(0).face_matrix(), G)
+    ids = ms.mesh(0).vertex_custom_scalar_attribute_array("symmetry_id")
+    assert np.mean(ids >= 0) > 0.5
+
+
+def test_a_back_side_with_vertices_of_its_own_is_welded_to_the_front(requires_pipeline, bumpy):
+    """The back side on copies of the vertices, and which side of each triangle comes first
+    chosen at random: only welding the copies gives one surface.  Every copy carries the
+    outputs of the vertex it was welded to."""
+    V, F = bumpy
+    n = len(V)
+    V2 = np.vstack([V, V])
+    back = F[:, ::-1] + n
+    first = np.random.default_rng(6).random(len(F)) < 0.5
+    G = np.vstack([np.where(first[:, None], back, F), np.where(first[:, None], F, back)])
+    ms, r = detect(V2, G)
+    assert r["back_faces"] == len(F)
+    assert r["welded_vertices"] == n
+    assert mirror_error(r, MIRROR_X) < 0.2
+    m = ms.mesh(0)
+    np.testing.assert_array_equal(m.vertex_matrix(), V2)
+    ids = m.vertex_custom_scalar_attribute_array("symmetry_id")
+    np.testing.assert_array_equal(ids[:n], ids[n:])
+    np.testing.assert_array_equal(m.vertex_scalar_array()[:n], m.vertex_scalar_array()[n:])
+
+
+def test_every_face_given_twice_is_kept_once(requires_pipeline, bumpy):
+    V, F = bumpy
+    G = np.vstack([F, F])
+    ms, r = detect(V, G)
+    assert r["repeated_faces"] == len(F) and r["back_faces"] == 0
+    assert mirror_error(r, MIRROR_X) < 0.2
+    np.testing.assert_array_equal(ms.mesh(0).face_matrix(), G)
+
+
 @pytest.mark.long_under_sanitizers
 @pytest.mark.parametrize("name", ("box", "torus", "noisy_both_0.2", "fine_row"))
 def test_the_planted_scenes_need_no_repair(requires_pipeline, name):
-    """The repair leaves a clean mesh exactly as it is: the scenes (and the real models, see
-    test_real_models_detect.py) are analysed as before."""
+    """The repair leaves a clean mesh exactly as it is, and a fine one is not refined: the
+    scenes (and the real models, see test_real_models_detect.py) are analysed as before."""
     from conftest import scene_detection
     _, result, _ = scene_detection(name)
     assert result.raw["welded_vertices"] == 0 and result.raw["flipped_faces"] == 0
+    assert result.raw["repeated_faces"] == 0 and result.raw["back_faces"] == 0
+    assert result.raw["working_vertices"] == 0  # fine enough for the curvature ball: not refined
 
 
 # More of what exporters and scanners write, each on the mirror-symmetric bumpy sphere; the

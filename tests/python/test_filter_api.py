@@ -121,12 +121,22 @@ def _infinite_mesh(tmp_path):
     return make_meshset(V, F)
 
 
-def _one_triangle(tmp_path):
-    return make_meshset(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
+def _scattered_triangles(tmp_path):
+    """200 equal flat triangles at random in a box, none touching another: every sample is
+    flat, and no flat region holds min_patch_area (each triangle is 0.5 % of the area)."""
+    rng = np.random.default_rng(9)
+    corners = np.array([[0.0, 0, 0], [0.03, 0, 0], [0, 0.03, 0]])
+    V = np.concatenate([corners @ _random_rotation(rng).T + rng.uniform(0, 1, 3) for _ in range(200)])
+    return make_meshset(V, np.arange(600).reshape(-1, 3))
 
 
-@pytest.mark.parametrize("make", [_tiny_point_cloud, _empty_mesh, _nan_mesh, _infinite_mesh, _one_triangle],
-                         ids=["tiny_point_cloud", "empty", "nan", "infinite", "one_triangle"])
+def _random_rotation(rng):
+    Q, R = np.linalg.qr(rng.normal(size=(3, 3)))
+    return Q * np.sign(np.diag(R))
+
+
+@pytest.mark.parametrize("make", [_tiny_point_cloud, _empty_mesh, _nan_mesh, _infinite_mesh, _scattered_triangles],
+                         ids=["tiny_point_cloud", "empty", "nan", "infinite", "scattered_triangles"])
 @pytest.mark.parametrize("name", [FILTER, meshlab_symmetry.REDUCTION_FILTER_NAME], ids=["detection", "reduction"])
 def test_unusable_mesh_is_rejected_and_left_unchanged(make, name, tmp_path):
     """Detection, and reduction (which detects first and must add no layer on failure).  A
@@ -166,22 +176,51 @@ def _could_not_look(ms):
 
 
 def test_a_mesh_with_nothing_to_pair_says_it_could_not_look(tmp_path):
-    """One flat triangle: every sample is flat, so no pair is formed and no family is large
-    enough to count.  An empty result would read as "no symmetry"; the filter says it could
-    not look.  The curvature ball had to grow to hold a few of its edges, so the advice is
-    to refine the mesh, with the filter that does it."""
-    message = _could_not_look(_one_triangle(tmp_path))
-    assert "too coarse" in message and "meshing_surface_subdivision_midpoint" in message
+    """Flat triangles apart, each below min_patch_area: every sample is flat, so no pair is
+    formed and no flat region is large enough to count.  An empty result would read as "no
+    symmetry"; the filter says it could not look, and which parameters would let it."""
+    message = _could_not_look(_scattered_triangles(tmp_path))
+    assert "min_patch_area" in message and "too coarse" not in message
 
 
-def test_a_cube_of_twelve_triangles_is_too_coarse_to_look_at():
-    """A cube as exporters write it (assimp's test files have several): the ball that holds
-    a few edges holds the whole cube, every sample is alike."""
+def test_one_triangle_is_one_planar_region(tmp_path):
+    """A mesh too coarse for the curvature ball is analysed on a refined copy of the same
+    surface, not refused: one triangle is a plane."""
+    ms = _one_triangle(tmp_path)
+    out = run(ms)
+    assert out["symmetry_count"] == 1
+    assert out["continuous_kinds"][0] == 4 and out["source_areas"][0] == pytest.approx(1.0, abs=0.01)
+    assert out["working_vertices"] > 3
+
+
+def _one_triangle(tmp_path):
+    return make_meshset(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
+
+
+def test_a_cube_of_twelve_triangles_gives_its_nine_mirror_planes():
+    """A cube as exporters write it (assimp's test files have several), once refused as too
+    coarse: its corners are its only vertices, so it is analysed on a refined copy, where the
+    curvature ball of the default radius sees its edges.  Asked for as many symmetries as the
+    cube has (48), every one of its nine mirror planes is reported, and every discrete report
+    maps the cube's corners onto its corners."""
     V = np.array([[x, y, z] for x in (0.0, 1) for y in (0.0, 1) for z in (0.0, 1)])
     F = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
                   [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
-    message = _could_not_look(make_meshset(V, F))
-    assert "too coarse" in message and "Subdivision Surfaces: Midpoint" in message
+    out = run(make_meshset(V, F), max_symmetries=48)
+    n = out["symmetry_count"]
+    T = np.asarray(out["transforms"]).reshape(n, 4, 4)
+    discrete = np.asarray(out["continuous_kinds"]).reshape(n) == 0
+    c = np.full(3, 0.5)
+    planes = [np.eye(3)[k] for k in range(3)] + [np.array(v) / np.sqrt(2) for v in
+                                                 ((1, 1, 0), (1, -1, 0), (1, 0, 1), (1, 0, -1), (0, 1, 1), (0, 1, -1))]
+    for normal in planes:
+        mirror = np.eye(4)
+        mirror[:3, :3] -= 2 * np.outer(normal, normal)
+        mirror[:3, 3] = 2 * (normal @ c) * normal
+        assert min(np.abs(t - mirror).max() for t in T[discrete]) < 0.01, normal
+    for t in T[discrete]:
+        image = V @ t[:3, :3].T + t[:3, 3]
+        assert np.abs(image[:, None, :] - V[None]).max(axis=2).min(axis=1).max() < 0.01
 
 
 BAD_PARAMETERS = {
