@@ -525,6 +525,8 @@ class AccuracyScorer:
     def score_discrete(self, k: int, R: np.ndarray, patch: Optional[np.ndarray]) -> ReportScore:
         rs = ReportScore(k, _scenes.KIND_DISCRETE)
         X = self.V[patch] if patch is not None else _oracle.subsample(self.V, 2000)
+        if patch is not None and self.scene.corner_vertices_only:
+            X = _oracle.region_samples(self.V, self.scene.faces, patch, 2000)
         if np.mean(np.linalg.norm(_scenes.apply(R, X) - X, axis=1)) < TRIVIAL_TOL * self.diag:
             rs.note = "identity (the patch barely moves)"
             return rs

@@ -666,6 +666,9 @@ class Scene:
     #: meshes (CAD parts with flat faces and cylindrical holes, a scanned bunny with a flat
     #: base), whose families nobody listed
     oracle_families: bool = False
+    #: a CAD model's tessellation: vertices at its corners only, so a report's patch is judged
+    #: by points over its faces (oracle.region_samples), not by those few vertices
+    corner_vertices_only: bool = False
 
     @property
     def diagonal(self) -> float:
@@ -1734,6 +1737,50 @@ def scene_facade(seed: int = 0, columns: int = 4, rows: int = 2,
                           oracle_families=True), rng)
 
 
+# -- CAD models as shape collections store them ------------------------------------------------
+
+def _plane_mirror(normal: np.ndarray, offset: float) -> np.ndarray:
+    """The reflection across the plane normal . x = offset."""
+    return about(normal * offset, mirror(normal))
+
+
+def scene_cad_chair(seed: int = 0) -> Scene:
+    """A chair as shape collections store CAD models (tests/cad_models.py): 14-17 parts that
+    overlap, a frame inside the seat, boxes of twelve triangles and prisms with fans of long
+    thin triangles, every triangle twice, once each way round.  Its mirror plane is required;
+    the parts' own exact symmetries (legs onto legs, a slat onto itself) the oracle checks."""
+    import cad_models
+    m = cad_models.make_model("chair", seed)
+    b = _Builder()
+    b.add("chair", m.vertices, m.faces)
+    for k, (n, d) in enumerate(m.planes):
+        b.plant(f"mirror{k}", _plane_mirror(n, d), "chair", "chair")
+    return b.build("cad_chair", "a coarse double-sided CAD chair of many parts", seed, oracle_families=True,
+                   corner_vertices_only=True)
+
+
+def scene_cad_cars(seed: int = 0) -> Scene:
+    """Two copies of a coarse double-sided CAD car (an extruded body, a cabin, an engine inside
+    the body, four wheels of few sides, headlights): the second turned and moved, its flat
+    faces triangulated the other way (the same surface on the same corners, which a CAD part
+    has no others).  Required: the copy and each car's mirror plane."""
+    import cad_models
+    rng = np.random.default_rng([seed, 41])
+    a = cad_models.make_model("car", seed, posed=False)
+    c = cad_models.make_model("car", seed, posed=False, alt=True)
+    T = _placed(random_rotation(rng, 60, 150), np.array([0.0, 1.4, 0.3]) * a.diagonal)
+    M = _plane_mirror(*a.planes[0])
+    b = _Builder()
+    b.add("car", a.vertices, a.faces)
+    b.add("copy", *transform_mesh(T, c.vertices, c.faces))
+    b.copy_of("copy", "car", T, 0.0)
+    b.plant("copy", T, "car", "copy")
+    b.plant("mirror", M, "car", "car")
+    b.plant("copy_mirror", T @ M @ np.linalg.inv(T), "copy", "copy")
+    return b.build("cad_cars", "a coarse double-sided CAD car and a copy tessellated otherwise", seed,
+                   oracle_families=True, corner_vertices_only=True)
+
+
 HARD_SCENES: Dict[str, Callable[..., Scene]] = {
     "noisy_both_0.1": functools.partial(scene_noisy_both, level=0.001),
     "noisy_both_0.2": functools.partial(scene_noisy_both, level=0.002),
@@ -1764,9 +1811,14 @@ HARD_SCENES: Dict[str, Callable[..., Scene]] = {
     # the same windows on a wall with 4 of margin around them: a step's patch lies nearly all
     # on the wall's planes and extrusions (whose patches take in the windows' faces too)
     "facade_wide": functools.partial(scene_facade, margin=4.0, name="facade_wide"),
+    "cad_chair": scene_cad_chair,
+    "cad_cars": scene_cad_cars,
 }
 #: the hard scenes (cad_joint needs the CAD meshes, like CAD_SCENE_NAMES)
 HARD_SCENE_NAMES: Tuple[str, ...] = tuple(HARD_SCENES)
+#: CAD models as shape collections store them (tests/cad_models.py): a few hundred triangles
+#: over their corners only, so below the other scenes' size and with copies on the same corners
+CAD_LIKE_SCENE_NAMES: Tuple[str, ...] = ("cad_chair", "cad_cars")
 #: scenes built from the CGAL meshes that tests/fetch_cgal_meshes.sh fetches
 NEEDS_CAD_MESHES = frozenset({"cad_fandisk", "cad_joint"})
 
