@@ -157,29 +157,26 @@ def requires_pipeline(pipeline_built):
         pytest.skip("the core's detection pipeline is not built yet")
 
 
-@pytest.fixture(scope="session")
-def real_model_set():
+def _models_by_name(load):
+    """{name: model} of real_models' `load` (it fetches them); a failed fetch fails the test."""
     import os
     import sys
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     import real_models
     try:
-        return {m.name: m for m in real_models.real_models()}
+        return {m.name: m for m in load(real_models)}
     except RuntimeError as e:
         pytest.fail(str(e))
+
+
+@pytest.fixture(scope="session")
+def real_model_set():
+    return _models_by_name(lambda real_models: real_models.real_models())
 
 
 @pytest.fixture(scope="session")
 def cad_catalog_set():
-    """The CAD models of tests/cad_catalog.json by name, fetched once per session."""
-    import os
-    import sys
-    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    import real_models
-    try:
-        return {m.name: m for m in real_models.cad_catalog_models()}
-    except RuntimeError as e:
-        pytest.fail(str(e))
+    return _models_by_name(lambda real_models: real_models.cad_catalog_models())
 
 
 def cgal_meshes_dir():
