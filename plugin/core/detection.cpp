@@ -80,16 +80,18 @@ struct Model {
 };
 
 // The longest edge the working copy of a coarse mesh may keep, or 0 to analyse the mesh as it
-// is.  On a coarse curved surface (a decimated scan, a character) a ball grown to hold a few
-// edges averages the facets, as it should; but where the ball would have to grow several
-// times over, the edges are those of a CAD export's long thin triangles over flat faces, and
-// a ball their size spans whole parts until every sample is flat or umbilic.  There the
-// facets are the surface itself, so splitting them loses nothing.
+// is.  On a coarse smooth surface (a decimated scan, a character), bent a little at every
+// edge, a ball grown to hold a few edges averages the facets, as it should, and a refined copy
+// would show the facets' kinks instead.  But on a CAD export, flat faces of long thin
+// triangles between creases, a ball grown several times over spans whole parts until every
+// sample is flat or umbilic; there the facets are the surface itself and splitting them
+// loses nothing.
 double edge_to_refine_to(const Model& model, const DetectionOptions& options) {
     if (options.max_radius_growth <= 0) return 0;
     const double edge = options.curvature_radius * model.diagonal / options.min_radius_in_edges;
     const double median = median_edge_length(mesh_neighbourhoods(model.input), model.debris);
-    return median > options.max_radius_growth * edge ? edge : 0;
+    if (median <= options.max_radius_growth * edge) return 0;
+    return smooth_edge_share(model.input, options.working) < options.working.max_smooth_edge_share ? edge : 0;
 }
 
 void prepare_model(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const DetectionOptions& options,

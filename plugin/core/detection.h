@@ -49,7 +49,8 @@ struct DetectionOptions {
     double min_radius_in_edges = 1.5;
     /// A mesh so coarse that r would grow past this many times curvature_radius to hold
     /// min_radius_in_edges of its edges (a CAD export's long thin triangles) is analysed on a
-    /// copy whose long edges are split (working_mesh.h refined_copy) instead; 0: never.
+    /// copy whose long edges are split (working_mesh.h refined_copy) instead, if it is faceted
+    /// as CAD parts are (WorkingMeshOptions::max_smooth_edge_share); 0: never.
     double max_radius_growth = 2.0;
     /// Components that together hold at most this share of the area, smallest first, each
     /// smaller than the great disc of the ball curvature_radius asks for, are debris

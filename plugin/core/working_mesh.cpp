@@ -367,6 +367,23 @@ std::unique_ptr<Mesh> refined_copy(const Mesh& input, double max_edge, int max_v
     return refined;
 }
 
+double smooth_edge_share(const Mesh& mesh, const WorkingMeshOptions& options) {
+    const double flat = std::cos(options.flat_edge_degrees * M_PI / 180.0);
+    const double crease = std::cos(options.crease_edge_degrees * M_PI / 180.0);
+    long smooth = 0, interior = 0;
+    for (const Face& f : mesh.face) {
+        if (f.IsD()) continue;
+        for (int j = 0; j < 3; ++j) {
+            const Face* g = f.cFFp(j);
+            if (g <= &f || !vcg::face::IsManifold(f, j)) continue;  // each edge once, from its first face
+            ++interior;
+            const double cosine = f.cN() * g->cN();
+            smooth += cosine < flat && cosine >= crease;
+        }
+    }
+    return interior ? double(smooth) / double(interior) : 0.0;
+}
+
 std::unique_ptr<Mesh> refined_copy_within(const Mesh& input, double max_edge, const WorkingMeshOptions& options) {
     int budget = options.max_refined_vertices;
     if (options.max_vertices > 0) budget = std::min(budget, options.max_vertices);

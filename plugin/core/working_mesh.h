@@ -36,6 +36,13 @@ struct WorkingMeshOptions {
     int min_faces_to_halve = 100000;
     /// The strip along the cut that the last pass simplifies, in edges either side of it.
     int seam_rings = 3;
+    /// A coarse mesh is refined only if it is faceted as CAD parts are, its edges flat or
+    /// creased: fewer than this share of its interior edges bend smoothly...
+    double max_smooth_edge_share = 0.5;
+    /// ...their faces' normals between these two angles apart, in degrees (a coarse smooth
+    /// surface, a decimated scan or an icosphere, bends by a few degrees at every edge).
+    double flat_edge_degrees = 1.0;
+    double crease_edge_degrees = 20.0;
     /// A refined copy (refined_copy_within) holds about this many vertices at most: where
     /// splitting down to the edge asked for would give more, the longest edge kept grows (and
     /// the curvature ball with the median edge).  Capped by max_vertices when that is set.
@@ -62,6 +69,11 @@ std::unique_ptr<Mesh> simplified_copy(const Mesh& input, int target_vertices, co
 /// surface unchanged.  Every input vertex is a vertex of the copy.  nullptr if a pass would
 /// leave more than `max_vertices` (0: no limit).
 std::unique_ptr<Mesh> refined_copy(const Mesh& input, double max_edge, int max_vertices = 0);
+
+/// The share of the mesh's interior edges (two faces, face-face adjacency computed) whose
+/// faces' normals lie between options.flat_edge_degrees and crease_edge_degrees apart: the
+/// edges where a coarse smooth surface bends, which a CAD part's flat faces and creases lack.
+double smooth_edge_share(const Mesh& mesh, const WorkingMeshOptions& options);
 
 /// refined_copy with the longest edge grown until the copy holds at most about
 /// options.max_refined_vertices (and max_vertices, if set), within refinement_attempts;
